@@ -1,0 +1,83 @@
+!> Explicit Taylor schemes EX-T-1 and EX-T-2 (METHODS.md section 1), an embedded pair.
+!>
+!>   ex-t-1:  U1 = U0 + h F0
+!>   ex-t-2:  U1 = U0 + h F0 + h^2/2 J0 F0,      delta = h^2/2 J0 F0
+module taylorode_explicit_taylor
+   use taylorode_kinds, only: dp
+   use taylorode_status, only: status_type, set_status, status_nonfinite
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use taylorode_problem, only: ode_problem
+   use taylorode_scheme, only: scheme_type
+   implicit none
+   private
+
+   public :: explicit_taylor_type, new_explicit_taylor
+
+   !> EX-T-1 (order 1) or EX-T-2 (order 2); the other member gives the error estimate
+   type, extends(scheme_type) :: explicit_taylor_type
+      !> f(U0), g(U0) and F0 = f(U0) + g(U0)
+      real(dp), allocatable :: f0(:), g0(:), rhs0(:)
+      !> h^2/2 J0 F0, the second-order term
+      real(dp), allocatable :: taylor2(:)
+      !> Jacobians at U0
+      real(dp), allocatable :: jac_f0(:, :), jac_g0(:, :)
+   contains
+      procedure :: advance => explicit_taylor_advance
+      procedure :: prepare => explicit_taylor_prepare
+   end type explicit_taylor_type
+
+contains
+
+   !> Create EX-T-1 (order = 1) or EX-T-2 (order = 2).
+   subroutine new_explicit_taylor(self, order)
+      !> The new scheme
+      type(explicit_taylor_type), intent(out) :: self
+      !> 1 or 2
+      integer, intent(in) :: order
+      self%order = order
+      self%embedded_order = 3 - order
+      if (order == 1) then
+         self%name = "ex-t-1"
+      else
+         self%name = "ex-t-2"
+      end if
+   end subroutine new_explicit_taylor
+
+   subroutine explicit_taylor_prepare(self, n)
+      class(explicit_taylor_type), intent(inout) :: self
+      integer, intent(in) :: n
+      if (self%n == n) return
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%taylor2, self%jac_f0, self%jac_g0)
+      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%taylor2(n), self%jac_f0(n, n), self%jac_g0(n, n))
+      self%n = n
+   end subroutine explicit_taylor_prepare
+
+   subroutine explicit_taylor_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
+      class(explicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:)
+      real(dp), intent(out) :: u1(:)
+      type(status_type), intent(inout) :: stat
+      real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: newton_tolerance(:)
+
+      call self%eval_f(problem, t, u0, self%f0)
+      call self%eval_g(problem, t, u0, self%g0)
+      self%rhs0 = self%f0 + self%g0
+      if (.not. all(ieee_is_finite(self%rhs0))) then
+         call set_status(stat, status_nonfinite, self%name//": f or g returned NaN or Inf")
+         return
+      end if
+      u1 = u0 + h*self%rhs0
+      if (self%order == 1 .and. .not. present(delta)) return
+
+      call self%eval_jac_f(problem, t, u0, self%jac_f0)
+      call self%eval_jac_g(problem, t, u0, self%jac_g0)
+      self%taylor2 = matmul(self%jac_f0, self%rhs0) + matmul(self%jac_g0, self%rhs0)
+      self%taylor2 = (0.5_dp*h*h)*self%taylor2
+      if (self%order == 2) u1 = u1 + self%taylor2
+      if (present(delta)) delta = self%taylor2
+   end subroutine explicit_taylor_advance
+
+end module taylorode_explicit_taylor

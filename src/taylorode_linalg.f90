@@ -1,0 +1,71 @@
+!> Dense linear algebra through LAPACK: the only module that calls it.
+!>
+!> Explicit interfaces to dgetrf/dgetrs and assumed-shape wrappers that the
+!> Newton solver uses to factor an iteration matrix once and solve with it
+!> several times.
+module taylorode_linalg
+   use taylorode_kinds, only: dp
+   implicit none
+   private
+
+   public :: lu_factor, lu_solve, add_to_diagonal
+
+   interface
+      pure subroutine dgetrf(m, n, a, lda, ipiv, info)
+         import :: dp
+         integer, intent(in) :: m, n, lda
+         real(dp), intent(inout) :: a(lda, *)
+         integer, intent(out) :: ipiv(*)
+         integer, intent(out) :: info
+      end subroutine dgetrf
+      pure subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+         import :: dp
+         character(len=1), intent(in) :: trans
+         integer, intent(in) :: n, nrhs, lda, ldb
+         real(dp), intent(in) :: a(lda, *)
+         integer, intent(in) :: ipiv(*)
+         real(dp), intent(inout) :: b(ldb, *)
+         integer, intent(out) :: info
+      end subroutine dgetrs
+   end interface
+
+contains
+
+   !> LU factorization with partial pivoting, in place (LAPACK dgetrf).
+   !> `info > 0` means the matrix is exactly singular.
+   pure subroutine lu_factor(a, ipiv, info)
+      !> Square matrix on entry, its LU factors on exit
+      real(dp), contiguous, intent(inout) :: a(:, :)
+      !> Pivot indices, size(a, 1)
+      integer, contiguous, intent(out) :: ipiv(:)
+      !> LAPACK info: 0 success, > 0 singular, < 0 bad argument
+      integer, intent(out) :: info
+      call dgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
+   end subroutine lu_factor
+
+   !> Solve A x = b with the factors from `lu_factor`; b is overwritten by x.
+   pure subroutine lu_solve(lu, ipiv, b, info)
+      !> LU factors from `lu_factor`
+      real(dp), contiguous, intent(in) :: lu(:, :)
+      !> Pivot indices from `lu_factor`
+      integer, contiguous, intent(in) :: ipiv(:)
+      !> Right-hand side on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: b(:)
+      !> LAPACK info
+      integer, intent(out) :: info
+      call dgetrs("N", size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
+   end subroutine lu_solve
+
+   !> Add `value` to every diagonal entry of the square matrix a (a + value I).
+   pure subroutine add_to_diagonal(a, value)
+      !> Square matrix, updated in place
+      real(dp), intent(inout) :: a(:, :)
+      !> Number added to the diagonal
+      real(dp), intent(in) :: value
+      integer :: i
+      do i = 1, size(a, 1)
+         a(i, i) = a(i, i) + value
+      end do
+   end subroutine add_to_diagonal
+
+end module taylorode_linalg

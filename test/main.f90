@@ -1,0 +1,86 @@
+!> Runs every test suite, one suite (`fpm test -- <suite>`) or one test
+!> (`fpm test -- <suite> <test>`), and closes with the line "N passed, N failed".
+program tester
+   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+   use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type
+   use test_problems, only: collect_problems
+   use test_schemes, only: collect_schemes
+   implicit none
+
+   type(testsuite_type), allocatable :: suites(:)
+   character(len=:), allocatable :: suite_name, test_name
+   integer :: is, passed, failed
+   character(len=*), parameter :: fmt = '("#", *(1x, a))'
+
+   suites = [ &
+      new_testsuite("problems", collect_problems), &
+      new_testsuite("schemes", collect_schemes) &
+      ]
+   passed = 0
+   failed = 0
+
+   call get_argument(1, suite_name)
+   call get_argument(2, test_name)
+
+   if (allocated(suite_name)) then
+      is = select_suite(suites, suite_name)
+      if (is < 1 .or. is > size(suites)) then
+         write (error_unit, fmt) "Unknown suite:", suite_name
+         write (error_unit, fmt) "Available suites:"
+         do is = 1, size(suites)
+            write (error_unit, fmt) "-", suites(is)%name
+         end do
+         error stop 1
+      end if
+      call run_suite(suites(is), test_name)
+   else
+      do is = 1, size(suites)
+         call run_suite(suites(is))
+      end do
+   end if
+
+   write (output_unit, '(i0, " passed, ", i0, " failed")') passed, failed
+   if (failed > 0) error stop 1
+
+contains
+
+   !> Run every test of a suite, or only the one called `only`, counting outcomes.
+   subroutine run_suite(suite, only)
+      type(testsuite_type), intent(in) :: suite
+      character(len=*), intent(in), optional :: only
+      type(unittest_type), allocatable :: tests(:)
+      integer :: it, stat
+
+      write (error_unit, fmt) "Testing:", suite%name
+      call suite%collect(tests)
+      do it = 1, size(tests)
+         if (present(only)) then
+            if (tests(it)%name /= only) cycle
+         end if
+         stat = 0
+         call run_selected(suite%collect, tests(it)%name, error_unit, stat)
+         if (stat == 0) then
+            passed = passed + 1
+         else
+            failed = failed + 1
+         end if
+      end do
+      if (present(only) .and. passed + failed == 0) then
+         write (error_unit, fmt) "Unknown test:", only
+         failed = 1
+      end if
+   end subroutine run_suite
+
+   !> The idx-th command-line argument, unallocated when absent.
+   subroutine get_argument(idx, arg)
+      integer, intent(in) :: idx
+      character(len=:), allocatable, intent(out) :: arg
+      integer :: length, stat
+      call get_command_argument(idx, length=length, status=stat)
+      if (stat /= 0 .or. length == 0) return
+      allocate (character(len=length) :: arg)
+      call get_command_argument(idx, arg, status=stat)
+      if (stat /= 0) deallocate (arg)
+   end subroutine get_argument
+
+end program tester

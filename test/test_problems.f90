@@ -1,0 +1,149 @@
+!> Built-in problems: analytic Jacobians against finite differences, and a user
+!> problem that supplies only f and g.
+module test_problems
+   use testdrive, only: new_unittest, unittest_type, error_type, check
+   use taylorode, only: dp, ode_problem, ode_problem_fd, van_der_pol_type, new_van_der_pol, &
+      vdp_split_paper, vdp_split_stiff, linear_test_type, scheme_type, status_type, new_scheme, &
+      integrate_fixed, status_ok, van_der_pol_initial_state, vdp_ic_prepared
+   implicit none
+   private
+
+   public :: collect_problems
+
+   !> Forward differences with increment sqrt(eps) |u| have error ~ sqrt(eps) times
+   !> the second derivatives; relative to the Jacobian's size 1e-6 leaves a margin of ~100.
+   real(dp), parameter :: fd_tolerance = 1.0e-6_dp
+
+   !> Van der Pol written as a user without Jacobians would: f and g only
+   type, extends(ode_problem_fd) :: vdp_without_jacobians
+      real(dp) :: mu = 1.0_dp
+      integer :: splitting = vdp_split_paper
+   contains
+      procedure :: f => user_f
+      procedure :: g => user_g
+   end type vdp_without_jacobians
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_problems(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("van-der-pol-jacobians", test_van_der_pol_jacobians), &
+         new_unittest("linear-test-jacobians", test_linear_test_jacobians), &
+         new_unittest("problem-without-jacobians", test_problem_without_jacobians), &
+         new_unittest("van-der-pol-initial-states", test_initial_states) &
+         ]
+   end subroutine collect_problems
+
+   !> Largest difference between analytic and forward-difference Jacobians of f and g,
+   !> relative to the largest entry (at least 1).
+   subroutine compare_jacobians(error, analytic, differenced, u, label)
+      type(error_type), allocatable, intent(out) :: error
+      class(ode_problem), intent(inout) :: analytic, differenced
+      real(dp), intent(in) :: u(:)
+      character(len=*), intent(in) :: label
+      real(dp), dimension(size(u), size(u)) :: jac_a, jac_d
+      real(dp) :: scale
+
+      call analytic%jac_f(0.0_dp, u, jac_a)
+      call differenced%jac_f(0.0_dp, u, jac_d)
+      scale = max(1.0_dp, maxval(abs(jac_a)))
+      call check(error, maxval(abs(jac_a - jac_d))/scale < fd_tolerance, label//": df/dU")
+      if (allocated(error)) return
+      call analytic%jac_g(0.0_dp, u, jac_a)
+      call differenced%jac_g(0.0_dp, u, jac_d)
+      scale = max(1.0_dp, maxval(abs(jac_a)))
+      call check(error, maxval(abs(jac_a - jac_d))/scale < fd_tolerance, label//": dg/dU")
+   end subroutine compare_jacobians
+
+   subroutine test_van_der_pol_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: analytic
+      type(vdp_without_jacobians) :: differenced
+      real(dp), parameter :: states(2, 4) = reshape([2.0_dp, -0.6667_dp, -1.5_dp, 1.2e-3_dp, &
+         0.3_dp, 4.0_dp, 1.0_dp, -2.0_dp], [2, 4])
+      integer :: splitting, i
+
+      do splitting = vdp_split_paper, vdp_split_stiff
+         analytic = new_van_der_pol(1000.0_dp, splitting)
+         differenced%mu = 1000.0_dp
+         differenced%splitting = splitting
+         do i = 1, size(states, 2)
+            call compare_jacobians(error, analytic, differenced, states(:, i), "Van der Pol")
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine test_van_der_pol_jacobians
+
+   subroutine test_linear_test_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_test_type) :: analytic
+      real(dp) :: jac(2, 2), v(2), u(2)
+
+      analytic%lambda = (-0.5_dp, 2.0_dp)
+      analytic%nu = (-30.0_dp, -4.0_dp)
+      u = [0.7_dp, -1.3_dp]
+      call analytic%jac_g(0.0_dp, u, jac)
+      call analytic%g(0.0_dp, u, v)
+      ! linear: g(u) = J u exactly
+      call check(error, maxval(abs(matmul(jac, u) - v)) < 1.0e-14_dp, "g = J_g u")
+      if (allocated(error)) return
+      call analytic%jac_f(0.0_dp, u, jac)
+      call analytic%f(0.0_dp, u, v)
+      call check(error, maxval(abs(matmul(jac, u) - v)) < 1.0e-14_dp, "f = J_f u")
+   end subroutine test_linear_test_jacobians
+
+   !> A user problem with only f and g integrates like the built-in one.
+   subroutine test_problem_without_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: analytic
+      type(vdp_without_jacobians) :: differenced
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: u_a(2), u_d(2)
+
+      analytic = new_van_der_pol(100.0_dp)
+      differenced%mu = 100.0_dp
+      u_a = van_der_pol_initial_state(vdp_ic_prepared)
+      u_d = u_a
+      call new_scheme("i-t-2", scheme, stat)
+      call integrate_fixed(analytic, scheme, 0.0_dp, 1.0_dp, 200, u_a, stat)
+      call check(error, stat%code, status_ok)
+      if (allocated(error)) return
+      call new_scheme("i-t-2", scheme, stat)
+      call integrate_fixed(differenced, scheme, 0.0_dp, 1.0_dp, 200, u_d, stat)
+      call check(error, stat%code, status_ok)
+      if (allocated(error)) return
+      ! Newton converges to the same U1 with either matrix: only roundoff and the
+      ! Newton tolerance (1e-13 relative) separate the two runs.
+      call check(error, maxval(abs(u_a - u_d)) < 1.0e-10_dp, "finite-difference run differs")
+   end subroutine test_problem_without_jacobians
+
+   subroutine test_initial_states(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: u(2)
+      u = van_der_pol_initial_state(vdp_ic_prepared)
+      call check(error, u(2), -2.0_dp/3.0_dp, thr=1.0e-15_dp)
+      if (allocated(error)) return
+      u = van_der_pol_initial_state(2)
+      call check(error, u(2), 0.0_dp)
+   end subroutine test_initial_states
+
+   subroutine user_f(self, t, u, dudt)
+      class(vdp_without_jacobians), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = u(2)
+      dudt(2) = merge(-u(1), 0.0_dp, self%splitting == vdp_split_paper)
+   end subroutine user_f
+
+   subroutine user_g(self, t, u, dudt)
+      class(vdp_without_jacobians), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = 0.0_dp
+      dudt(2) = self%mu*(1 - u(1)**2)*u(2) - merge(u(1), 0.0_dp, self%splitting == vdp_split_stiff)
+   end subroutine user_g
+
+end module test_problems

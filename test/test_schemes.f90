@@ -1,0 +1,453 @@
+!> Orders of convergence, stability functions, L-stability and argument checks of
+!> every one-step scheme.
+module test_schemes
+   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+   use taylorode, only: dp, ode_problem, scheme_type, status_type, new_scheme, scheme_names, &
+      scheme_count, integrate_fixed, linear_test_type, stability_function, van_der_pol_type, &
+      new_van_der_pol, status_ok, status_size_mismatch, status_invalid_argument, status_nonfinite, &
+      status_unknown_scheme, status_singular_matrix, status_newton_diverged, &
+      status_newton_not_converged
+   implicit none
+   private
+
+   public :: collect_schemes
+
+   !> Largest allowed gap between observed and theoretical order. The observed order
+   !> is taken between N = 160 and 320 steps, where the next error term (one order
+   !> higher, relative size ~ h) moves it by a few hundredths at most.
+   real(dp), parameter :: order_tolerance = 0.1_dp
+   !> One step on the linear test equals R(z, w) up to a few roundoffs. A step
+   !> computes with numbers of the size of u0 (= 1 here), so where |R| << 1 comes
+   !> from cancellation (IMEX-RK with |w| = 1e4: |R| ~ 1e-4) the roundoff is
+   !> relative to max(|R|, |u0|): the bound is 1e-12 * max(|R|, 1).
+   real(dp), parameter :: stability_tolerance = 1.0e-12_dp
+
+   !> u' = cos(u) - 2 u^3 - u with f = cos(u) (non-stiff) and g = -2 u^3 - u (stiff):
+   !> both parts nonlinear, so the paper's SI-T-2 shows its first order here.
+   type, extends(ode_problem) :: cubic_problem
+   contains
+      procedure :: f => cubic_f
+      procedure :: g => cubic_g
+      procedure :: jac_f => cubic_jac_f
+      procedure :: jac_g => cubic_jac_g
+   end type cubic_problem
+
+   !> A stiff part whose Newton iteration runs away: g = -k atan(u), k large
+   type, extends(ode_problem) :: runaway_problem
+   contains
+      procedure :: f => runaway_f
+      procedure :: g => runaway_g
+      procedure :: jac_f => runaway_jac_f
+      procedure :: jac_g => runaway_jac_g
+   end type runaway_problem
+
+   integer, parameter :: order_steps(2) = [160, 320]
+   real(dp), parameter :: runaway_k = 1.0e6_dp
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_schemes(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("order-nonlinear-scalar", test_order_scalar), &
+         new_unittest("order-van-der-pol", test_order_van_der_pol), &
+         new_unittest("order-paper-si-t-2-linear", test_order_paper_linear), &
+         new_unittest("stability-function", test_stability_function), &
+         new_unittest("l-stability", test_l_stability), &
+         new_unittest("embedded-difference", test_embedded_difference), &
+         new_unittest("unknown-scheme", test_unknown_scheme), &
+         new_unittest("bad-step-input", test_bad_step_input), &
+         new_unittest("singular-newton-matrix", test_singular_newton), &
+         new_unittest("newton-divergence", test_newton_divergence) &
+         ]
+   end subroutine collect_schemes
+
+   !> Expected order on nonlinear problems (METHODS.md section 1)
+   pure integer function expected_order(name)
+      character(len=*), intent(in) :: name
+      select case (name)
+      case ("ex-t-1", "si-t-1", "i-t-1", "si-t-2-paper")
+         expected_order = 1
+      case default
+         expected_order = 2
+      end select
+   end function expected_order
+
+   !> Observed order log2(e_N / e_2N) of a scheme with fixed steps.
+   subroutine observed_order(error, name, problem, u0, t_end, reference, order)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), intent(in) :: name
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u0(:), t_end, reference(:)
+      real(dp), intent(out) :: order
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: u(size(u0)), errors(size(order_steps))
+      integer :: i
+
+      call new_scheme(name, scheme, stat)
+      call check(error, stat%code, status_ok, name//": "//stat_message(stat))
+      if (allocated(error)) return
+      do i = 1, size(order_steps)
+         u = u0
+         call integrate_fixed(problem, scheme, 0.0_dp, t_end, order_steps(i), u, stat)
+         call check(error, stat%code, status_ok, name//": "//stat_message(stat))
+         if (allocated(error)) return
+         errors(i) = maxval(abs(u - reference))
+      end do
+      order = log(errors(1)/errors(2))/log(2.0_dp)
+   end subroutine observed_order
+
+   subroutine test_order_scalar(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(cubic_problem) :: problem
+      real(dp) :: reference(1), order
+      integer :: i
+
+      reference = rk4_reference(problem, [1.0_dp], 1.0_dp)
+      do i = 1, scheme_count
+         call observed_order(error, trim(scheme_names(i)), problem, [1.0_dp], 1.0_dp, reference, order)
+         if (allocated(error)) return
+         call check(error, order, real(expected_order(trim(scheme_names(i))), dp), &
+            "order of "//trim(scheme_names(i))//" on u' = cos u - 2u^3 - u", thr=order_tolerance)
+         if (allocated(error)) return
+      end do
+   end subroutine test_order_scalar
+
+   subroutine test_order_van_der_pol(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      real(dp) :: reference(2), order
+      integer :: i
+
+      problem = new_van_der_pol(1.0_dp)
+      reference = rk4_reference(problem, [2.0_dp, 0.0_dp], 1.0_dp)
+      do i = 1, scheme_count
+         call observed_order(error, trim(scheme_names(i)), problem, [2.0_dp, 0.0_dp], 1.0_dp, &
+            reference, order)
+         if (allocated(error)) return
+         call check(error, order, real(expected_order(trim(scheme_names(i))), dp), &
+            "order of "//trim(scheme_names(i))//" on Van der Pol mu = 1", thr=order_tolerance)
+         if (allocated(error)) return
+      end do
+   end subroutine test_order_van_der_pol
+
+   !> The paper's SI-T-2 is second order on the linear test equation (its local
+   !> error term J_g f - J_f g vanishes when f and g commute).
+   subroutine test_order_paper_linear(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_test_type) :: problem
+      real(dp) :: reference(2), order
+      complex(dp) :: exact
+
+      problem%lambda = (-1.0_dp, 2.0_dp)
+      problem%nu = (-10.0_dp, 0.0_dp)
+      exact = exp(problem%lambda + problem%nu)
+      reference = [exact%re, exact%im]
+      call observed_order(error, "si-t-2-paper", problem, [1.0_dp, 0.0_dp], 1.0_dp, reference, order)
+      if (allocated(error)) return
+      call check(error, order, 2.0_dp, "order of si-t-2-paper on the linear test", thr=order_tolerance)
+   end subroutine test_order_paper_linear
+
+   !> One real step from (1, 0) with h = 1 lands on (Re R(z, w), Im R(z, w)).
+   subroutine test_stability_function(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_test_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      complex(dp), parameter :: z(24) = [ &
+         (-1.0_dp, 0.0_dp), (-0.5_dp, 0.0_dp), (-2.0_dp, 0.0_dp), (0.3_dp, 0.0_dp), &
+         (-0.1_dp, 0.0_dp), (-1.5_dp, 0.0_dp), (-0.7_dp, 0.0_dp), (-3.0_dp, 0.0_dp), &
+         (-0.5_dp, 0.5_dp), (-1.0_dp, 1.0_dp), (0.0_dp, 1.0_dp), (-0.2_dp, -0.8_dp), &
+         (-2.0_dp, 1.5_dp), (0.1_dp, 0.3_dp), (-0.4_dp, 2.0_dp), (-1.2_dp, -0.6_dp), &
+         (-0.3_dp, 0.0_dp), (-0.8_dp, 0.2_dp), (-1.0_dp, 0.0_dp), (-0.05_dp, 0.05_dp), &
+         (-0.6_dp, -1.1_dp), (-2.5_dp, 0.0_dp), (0.0_dp, -0.4_dp), (-1.7_dp, 0.9_dp)]
+      complex(dp), parameter :: w(24) = [ &
+         (-1.0_dp, 0.0_dp), (-10.0_dp, 0.0_dp), (-0.5_dp, 0.0_dp), (-100.0_dp, 0.0_dp), &
+         (-1.0e3_dp, 0.0_dp), (-2.0_dp, 0.0_dp), (-0.1_dp, 0.0_dp), (-50.0_dp, 0.0_dp), &
+         (-1.0_dp, 0.0_dp), (-5.0_dp, 0.0_dp), (-2.0_dp, 3.0_dp), (-20.0_dp, -10.0_dp), &
+         (-1.0_dp, 1.0_dp), (-0.2_dp, 0.7_dp), (-8.0_dp, 8.0_dp), (-3.0_dp, -4.0_dp), &
+         (0.0_dp, 2.0_dp), (-1.0e4_dp, 1.0e3_dp), (-0.3_dp, -0.3_dp), (-1.0e6_dp, 0.0_dp), &
+         (-7.0_dp, 1.0_dp), (-0.9_dp, 0.0_dp), (-1.5_dp, -0.5_dp), (-12.0_dp, 30.0_dp)]
+      real(dp) :: u1(2)
+      complex(dp) :: r
+      integer :: i, k
+
+      do k = 1, scheme_count
+         call new_scheme(trim(scheme_names(k)), scheme, stat)
+         do i = 1, size(z)
+            problem%lambda = z(i)
+            problem%nu = w(i)
+            call scheme%take_step(problem, 0.0_dp, 1.0_dp, [1.0_dp, 0.0_dp], u1, stat)
+            call check(error, stat%code, status_ok, trim(scheme_names(k))//": "//stat_message(stat))
+            if (allocated(error)) return
+            r = stability_function(trim(scheme_names(k)), z(i), w(i))
+            call check(error, abs(cmplx(u1(1), u1(2), dp) - r) <= stability_tolerance*max(abs(r), 1.0_dp), &
+               trim(scheme_names(k))//": one step differs from R(z, w) at pair "//itoa(i))
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine test_stability_function
+
+   !> w = -1e12: implicit and semi-implicit schemes damp to 1e-10; explicit ones grow
+   !> (and return finite numbers and a success status, not a crash).
+   subroutine test_l_stability(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_test_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      complex(dp), parameter :: z(2) = [(-1.0_dp, 0.0_dp), (-0.5_dp, 0.5_dp)]
+      real(dp) :: u1(2)
+      integer :: i, k
+      character(len=:), allocatable :: name
+
+      problem%nu = (-1.0e12_dp, 0.0_dp)
+      do k = 1, scheme_count
+         name = trim(scheme_names(k))
+         call new_scheme(name, scheme, stat)
+         do i = 1, size(z)
+            problem%lambda = z(i)
+            call scheme%take_step(problem, 0.0_dp, 1.0_dp, [1.0_dp, 0.0_dp], u1, stat)
+            call check(error, stat%code, status_ok, name//": "//stat_message(stat))
+            if (allocated(error)) return
+            if (name(1:2) == "ex") then
+               call check(error, norm2(u1) > 1.0_dp, name//" should be detected as unstable")
+            else
+               call check(error, norm2(u1) <= 1.0e-10_dp, name//" does not damp w = -1e12")
+            end if
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine test_l_stability
+
+   !> delta = U_high - U_low: check it against separate steps of the two members.
+   subroutine test_embedded_difference(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: high, low, pair
+      type(status_type) :: stat
+      character(len=*), parameter :: pairs(2, 4) = reshape([character(len=12) :: &
+         "ex-t-2", "ex-t-1", "si-t-2", "si-t-1", "i-t-2", "i-t-1", "si-t-2-paper", "si-t-1"], [2, 4])
+      real(dp) :: u_high(2), u_low(2), u1(2), delta(2)
+      real(dp), parameter :: u0(2) = [2.0_dp, -0.5_dp], h = 0.05_dp
+      integer :: k
+
+      problem = new_van_der_pol(5.0_dp)
+      do k = 1, size(pairs, 2)
+         call new_scheme(trim(pairs(1, k)), high, stat)
+         call new_scheme(trim(pairs(2, k)), low, stat)
+         call high%take_step(problem, 0.0_dp, h, u0, u_high, stat)
+         call low%take_step(problem, 0.0_dp, h, u0, u_low, stat)
+         ! the advancing member may be either one: both must give the same delta
+         call new_scheme(trim(pairs(1, k)), pair, stat)
+         call pair%take_step(problem, 0.0_dp, h, u0, u1, stat, delta)
+         call check(error, maxval(abs(delta - (u_high - u_low))) <= 1.0e-12_dp, &
+            trim(pairs(1, k))//": delta is not U_high - U_low")
+         if (allocated(error)) return
+         call new_scheme(trim(pairs(2, k)), pair, stat)
+         call pair%take_step(problem, 0.0_dp, h, u0, u1, stat, delta)
+         if (trim(pairs(1, k)) == "si-t-2-paper") cycle
+         call check(error, maxval(abs(delta - (u_high - u_low))) <= 1.0e-12_dp, &
+            trim(pairs(2, k))//": delta is not U_high - U_low")
+         if (allocated(error)) return
+      end do
+   end subroutine test_embedded_difference
+
+   subroutine test_unknown_scheme(error)
+      type(error_type), allocatable, intent(out) :: error
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+
+      call new_scheme("rk4", scheme, stat)
+      call check(error, stat%code, status_unknown_scheme)
+      if (allocated(error)) return
+      call check(error, .not. allocated(scheme), "no scheme should be created for an unknown name")
+      if (allocated(error)) return
+      call check(error, index(stat%message, "rk4") > 0 .and. index(stat%message, "i-t-2") > 0 &
+         .and. index(stat%message, "imex-rk21") > 0, "message should name the input and the valid names")
+   end subroutine test_unknown_scheme
+
+   subroutine test_bad_step_input(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: u1(2), u_short(1), u(2), nan
+
+      nan = 0.0_dp
+      nan = nan/nan
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+
+      call scheme%take_step(problem, 0.0_dp, 0.1_dp, [2.0_dp, 0.0_dp], u_short, stat)
+      call check(error, stat%code, status_size_mismatch, "size mismatch")
+      if (allocated(error)) return
+      call check(error, len(stat%message) > 0, "size mismatch message")
+      if (allocated(error)) return
+
+      call scheme%take_step(problem, 0.0_dp, 0.0_dp, [2.0_dp, 0.0_dp], u1, stat)
+      call check(error, stat%code, status_invalid_argument, "h = 0")
+      if (allocated(error)) return
+      call scheme%take_step(problem, 0.0_dp, -0.1_dp, [2.0_dp, 0.0_dp], u1, stat)
+      call check(error, stat%code, status_invalid_argument, "h < 0")
+      if (allocated(error)) return
+      call check(error, index(stat%message, "step size") > 0, "h message: "//stat%message)
+      if (allocated(error)) return
+
+      call scheme%take_step(problem, 0.0_dp, 0.1_dp, [2.0_dp, nan], u1, stat)
+      call check(error, stat%code, status_nonfinite, "NaN in the state")
+      if (allocated(error)) return
+      call check(error, index(stat%message, "NaN") > 0, "NaN message: "//stat%message)
+      if (allocated(error)) return
+
+      u = [2.0_dp, 0.0_dp]
+      call integrate_fixed(problem, scheme, 0.0_dp, 1.0_dp, 0, u, stat)
+      call check(error, stat%code, status_invalid_argument, "zero steps")
+      if (allocated(error)) return
+      call integrate_fixed(problem, scheme, 1.0_dp, 1.0_dp, 10, u, stat)
+      call check(error, stat%code, status_invalid_argument, "empty interval")
+      if (allocated(error)) return
+      u = [2.0_dp, nan]
+      call integrate_fixed(problem, scheme, 0.0_dp, 1.0_dp, 10, u, stat)
+      call check(error, stat%code, status_nonfinite, "NaN initial state")
+   end subroutine test_bad_step_input
+
+   !> si-t-1 on u' = nu u with h nu = 1: the Newton matrix 1 - h nu is singular.
+   subroutine test_singular_newton(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_test_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: u1(2)
+
+      problem%lambda = (-1.0_dp, 0.0_dp)
+      problem%nu = (1.0_dp, 0.0_dp)
+      call new_scheme("si-t-1", scheme, stat)
+      call scheme%take_step(problem, 0.0_dp, 1.0_dp, [1.0_dp, 0.0_dp], u1, stat)
+      call check(error, stat%code, status_singular_matrix, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, index(stat%message, "singular") > 0, "message: "//stat_message(stat))
+   end subroutine test_singular_newton
+
+   !> g = -k atan(u) from u0 = 10 with h = 1: Newton overshoots further each time.
+   subroutine test_newton_divergence(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(runaway_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: u1(1)
+
+      call new_scheme("i-t-1", scheme, stat)
+      call scheme%take_step(problem, 0.0_dp, 1.0_dp, [10.0_dp], u1, stat)
+      call check(error, stat%code == status_newton_diverged .or. stat%code == status_newton_not_converged, &
+         "expected a Newton failure, got: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, index(stat%message, "Newton") > 0, "message: "//stat_message(stat))
+   end subroutine test_newton_divergence
+
+   !> Classical RK4 with 20000 steps: global error ~ 1e-17 * C, far below what the
+   !> order tests resolve (their smallest errors are ~1e-7).
+   function rk4_reference(problem, u0, t_end) result(u)
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u0(:), t_end
+      real(dp) :: u(size(u0))
+      integer, parameter :: n = 20000
+      real(dp) :: h, t, k1(size(u0)), k2(size(u0)), k3(size(u0)), k4(size(u0))
+      integer :: i
+      h = t_end/n
+      u = u0
+      do i = 0, n - 1
+         t = i*h
+         call full_rhs(t, u, k1)
+         call full_rhs(t + h/2, u + h/2*k1, k2)
+         call full_rhs(t + h/2, u + h/2*k2, k3)
+         call full_rhs(t + h, u + h*k3, k4)
+         u = u + h/6*(k1 + 2*k2 + 2*k3 + k4)
+      end do
+   contains
+      subroutine full_rhs(t, u, dudt)
+         real(dp), intent(in) :: t, u(:)
+         real(dp), intent(out) :: dudt(:)
+         real(dp) :: gu(size(u))
+         call problem%f(t, u, dudt)
+         call problem%g(t, u, gu)
+         dudt = dudt + gu
+      end subroutine full_rhs
+   end function rk4_reference
+
+   function stat_message(stat) result(message)
+      type(status_type), intent(in) :: stat
+      character(len=:), allocatable :: message
+      if (allocated(stat%message)) then
+         message = stat%message
+      else
+         message = "ok"
+      end if
+   end function stat_message
+
+   function itoa(i) result(s)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: s
+      character(len=12) :: buffer
+      write (buffer, '(i0)') i
+      s = trim(buffer)
+   end function itoa
+
+   subroutine cubic_f(self, t, u, dudt)
+      class(cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = cos(u)
+   end subroutine cubic_f
+
+   subroutine cubic_g(self, t, u, dudt)
+      class(cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -2*u**3 - u
+   end subroutine cubic_g
+
+   subroutine cubic_jac_f(self, t, u, jac)
+      class(cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = -sin(u(1))
+   end subroutine cubic_jac_f
+
+   subroutine cubic_jac_g(self, t, u, jac)
+      class(cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = -6*u(1)**2 - 1
+   end subroutine cubic_jac_g
+
+   subroutine runaway_f(self, t, u, dudt)
+      class(runaway_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine runaway_f
+
+   subroutine runaway_g(self, t, u, dudt)
+      class(runaway_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -runaway_k*atan(u)
+   end subroutine runaway_g
+
+   subroutine runaway_jac_f(self, t, u, jac)
+      class(runaway_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine runaway_jac_f
+
+   subroutine runaway_jac_g(self, t, u, jac)
+      class(runaway_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = -runaway_k/(1 + u(1)**2)
+   end subroutine runaway_jac_g
+
+end module test_schemes
