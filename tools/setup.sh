@@ -49,5 +49,5 @@ else
   )
 fi
 
-gfortran --version | head -1
-fpm --version | head -1
+gfortran --version | sed -n 1p
+fpm --version | sed -n 1p
