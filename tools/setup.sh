@@ -16,13 +16,14 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
 
-if ! command -v gfortran >/dev/null 2>&1 || ! [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] \
-   && ! ldconfig -p | grep -q 'liblapack\.so '; then
+have_lib() { compgen -G "/usr/lib/*/lib$1.so" >/dev/null || compgen -G "/usr/lib/lib$1.so" >/dev/null; }
+if ! command -v gfortran >/dev/null 2>&1 || ! have_lib lapack || ! have_lib blas; then
   as_root apt-get update -qq
   DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq gfortran liblapack-dev libblas-dev >/dev/null
 fi
 
-if ! command -v fpm >/dev/null 2>&1 || [ "$(fpm --version 2>/dev/null | sed -n 's/.*Version: *\([0-9.]*\).*/\1/p' | head -1)" != "$FPM_VERSION" ]; then
+installed_fpm="$(fpm --version 2>/dev/null | sed -n 's/.*Version: *\([0-9.]*\).*/\1/p' | sed -n 1p || true)"
+if [ "$installed_fpm" != "$FPM_VERSION" ]; then
   python3 -m pip install --quiet --disable-pip-version-check "fpm==${FPM_VERSION}"
 fi
 
