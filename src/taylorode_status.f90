@@ -10,7 +10,7 @@ module taylorode_status
    public :: status_type, set_status, status_name
    public :: status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
-      status_step_underflow, status_max_steps, status_unknown_scheme, status_repeated_failures
+      status_step_underflow, status_max_steps, status_unknown_scheme
 
    !> Success
    integer, parameter :: status_ok = 0
@@ -32,8 +32,6 @@ module taylorode_status
    integer, parameter :: status_max_steps = 8
    !> A scheme name that the factory does not know
    integer, parameter :: status_unknown_scheme = 9
-   !> Steps failed repeatedly (Newton or non-finite values) and the integration gave up
-   integer, parameter :: status_repeated_failures = 10
 
    !> Outcome of a library call: `code == status_ok` means success
    type :: status_type
@@ -83,7 +81,6 @@ contains
       case (status_step_underflow); name = "step size underflow"
       case (status_max_steps); name = "maximum steps reached"
       case (status_unknown_scheme); name = "unknown scheme"
-      case (status_repeated_failures); name = "repeated step failures"
       case default; name = "unknown status"
       end select
    end function status_name

@@ -3,6 +3,7 @@
 program tester
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type
+   use test_integrator, only: collect_integrator
    use test_problems, only: collect_problems
    use test_schemes, only: collect_schemes
    implicit none
@@ -14,7 +15,8 @@ program tester
 
    suites = [ &
       new_testsuite("problems", collect_problems), &
-      new_testsuite("schemes", collect_schemes) &
+      new_testsuite("schemes", collect_schemes), &
+      new_testsuite("integrator", collect_integrator) &
       ]
    passed = 0
    failed = 0

@@ -1,0 +1,504 @@
+!> The adaptive integrator: the paper's Van der Pol experiment, tolerance
+!> proportionality, controllers, failure statuses, dense output and step history.
+module test_integrator
+   use testdrive, only: new_unittest, unittest_type, error_type, check
+   use test_support, only: rk4_reference, stat_message, itoa, rtoa
+   use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, &
+      integrator_options_type, integration_stats_type, paper_options, van_der_pol_type, &
+      new_van_der_pol, van_der_pol_initial_state, vdp_ic_prepared, vdp_ic_unprepared, &
+      controller_pi, controller_pid, norm_rms, advance_low, step_history_type, write_history_csv, &
+      attempt_accepted, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
+      status_max_steps, status_step_underflow, status_newton_not_converged
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
+   implicit none
+   private
+
+   public :: collect_integrator
+
+   !> Reference values at t = 3000 (METHODS.md section 5)
+   real(dp), parameter :: vdp_reference(2, 2) = reshape([ &
+      -1.5102139907362793_dp, 1.1791653311113964e-3_dp, &
+      -1.5106069367443018_dp, 1.1783800007305336e-3_dp], [2, 2])
+   !> Accepted steps of a faithful implementation of the paper's settings
+   !> (METHODS.md section 5), by scheme (i-t-1, i-t-2) and initial condition
+   integer, parameter :: vdp_accepted(2, 2) = reshape([125756, 125748, 125360, 125357], [2, 2])
+   !> Allowed relative deviation of the step counts
+   real(dp), parameter :: step_count_tolerance = 0.005_dp
+
+   !> A stiff part that returns NaN at every t > 0
+   type, extends(ode_problem) :: poisoned_problem
+   contains
+      procedure :: f => poisoned_f
+      procedure :: g => poisoned_g
+      procedure :: jac_f => poisoned_jac
+      procedure :: jac_g => poisoned_jac
+   end type poisoned_problem
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_integrator(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("paper-van-der-pol", test_paper_van_der_pol), &
+         new_unittest("tolerance-proportionality", test_tolerance_proportionality), &
+         new_unittest("pi-and-pid-controllers", test_pi_pid), &
+         new_unittest("advance-with-low-member", test_advance_low), &
+         new_unittest("invalid-options", test_invalid_options), &
+         new_unittest("maximum-steps", test_max_steps), &
+         new_unittest("step-size-underflow", test_step_underflow), &
+         new_unittest("non-finite-values", test_nonfinite_values), &
+         new_unittest("newton-failures", test_newton_failures), &
+         new_unittest("dense-output", test_dense_output), &
+         new_unittest("step-history", test_step_history) &
+         ]
+   end subroutine collect_integrator
+
+   !> The paper's literal experiment with i-t-1 and i-t-2, both initial conditions.
+   subroutine test_paper_van_der_pol(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = ["i-t-1", "i-t-2"]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), deviation
+      integer :: k, ic
+
+      problem = new_van_der_pol(1000.0_dp)
+      do k = 1, 2
+         do ic = vdp_ic_prepared, vdp_ic_unprepared
+            call new_scheme(names(k), scheme, stat)
+            u = van_der_pol_initial_state(ic)
+            call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, paper_options(), stats, stat)
+            call check(error, stat%code, status_ok, names(k)//": "//stat_message(stat))
+            if (allocated(error)) return
+            call check(error, stats%t_reached, 3000.0_dp, "t_reached")
+            if (allocated(error)) return
+            deviation = abs(real(stats%accepted_steps - vdp_accepted(k, ic), dp))/vdp_accepted(k, ic)
+            call check(error, deviation <= step_count_tolerance, names(k)//" IC"//itoa(ic)// &
+               ": "//itoa(int(stats%accepted_steps))//" accepted steps, expected "//itoa(vdp_accepted(k, ic)))
+            if (allocated(error)) return
+            call check(error, stats%rejected_error > 0 .and. stats%rejected_error < 100, &
+               names(k)//": about 35 rejections expected, got "//itoa(int(stats%rejected_error)))
+            if (allocated(error)) return
+            if (names(k) == "i-t-2") then
+               ! measured: 5.2e-5 (IC1) and 5.9e-5 (IC2)
+               call check(error, abs(u(1) - vdp_reference(1, ic)) < 1.0e-2_dp, &
+                  "i-t-2 error in y at t = 3000")
+               if (allocated(error)) return
+            end if
+         end do
+      end do
+   end subroutine test_paper_van_der_pol
+
+   !> Van der Pol mu = 5 on [0, 2] with rtol = atol = tol over three decades: the
+   !> global error falls with tol, stays within [0.01, 10] tol (measured: 0.5-0.7 tol
+   !> for i-t-2, 0.05-0.2 tol for si-t-2) and its slope against tol over the three
+   !> decades is 1 within [0.8, 1.3] (measured 0.97 and 1.20).
+   subroutine test_tolerance_proportionality(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = ["i-t-2 ", "si-t-2"]
+      real(dp), parameter :: tolerances(4) = [1.0e-3_dp, 1.0e-4_dp, 1.0e-5_dp, 1.0e-6_dp]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: reference(2), u(2), errors(size(tolerances)), ratio, slope
+      integer :: k, i
+
+      problem = new_van_der_pol(5.0_dp)
+      reference = rk4_reference(problem, [2.0_dp, 0.0_dp], 2.0_dp)
+      do k = 1, size(names)
+         do i = 1, size(tolerances)
+            call new_scheme(trim(names(k)), scheme, stat)
+            options%rtol = tolerances(i)
+            options%atol = tolerances(i)
+            u = [2.0_dp, 0.0_dp]
+            call integrate(problem, scheme, 0.0_dp, 2.0_dp, u, options, stats, stat)
+            call check(error, stat%code, status_ok, stat_message(stat))
+            if (allocated(error)) return
+            errors(i) = maxval(abs(u - reference))
+            ratio = errors(i)/tolerances(i)
+            call check(error, ratio > 0.01_dp .and. ratio < 10.0_dp, trim(names(k))// &
+               ": global error / tol out of [0.01, 10] at tol index "//itoa(i))
+            if (allocated(error)) return
+         end do
+         call check(error, all(errors(2:) < errors(:size(errors) - 1)), &
+            trim(names(k))//": the error does not decrease with the tolerance")
+         if (allocated(error)) return
+         slope = log10(errors(1)/errors(size(errors)))/3.0_dp
+         call check(error, slope > 0.8_dp .and. slope < 1.3_dp, trim(names(k))// &
+            ": error against tolerance is not proportional, slope "//rtoa(slope))
+         if (allocated(error)) return
+      end do
+   end subroutine test_tolerance_proportionality
+
+   !> PI and PID complete the paper's run; their rejections are counted.
+   subroutine test_pi_pid(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: controllers(2) = [controller_pi, controller_pid]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      integer :: k
+
+      problem = new_van_der_pol(1000.0_dp)
+      do k = 1, size(controllers)
+         call new_scheme("i-t-2", scheme, stat)
+         options = paper_options()
+         options%controller = controllers(k)
+         u = van_der_pol_initial_state(vdp_ic_prepared)
+         call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         call check(error, abs(u(1) - vdp_reference(1, 1)) < 1.0e-2_dp, "PI/PID error in y")
+         if (allocated(error)) return
+         ! a smoother controller rejects fewer steps than it accepts by far
+         call check(error, stats%rejected_error < stats%accepted_steps/100, "too many rejections")
+         if (allocated(error)) return
+         call check(error, stats%rejected_steps() == stats%rejected_error + stats%rejected_newton + &
+            stats%rejected_nonfinite, "rejected_steps sums the causes")
+         if (allocated(error)) return
+      end do
+   end subroutine test_pi_pid
+
+   !> i-t-2 advancing with its first-order member is i-t-1 with the same estimate.
+   subroutine test_advance_low(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats_low, stats_one
+      type(status_type) :: stat
+      real(dp) :: u_low(2), u_one(2)
+
+      problem = new_van_der_pol(1000.0_dp)
+      options = paper_options()
+      options%advance = advance_low
+      call new_scheme("i-t-2", scheme, stat)
+      u_low = van_der_pol_initial_state(vdp_ic_prepared)
+      call integrate(problem, scheme, 0.0_dp, 300.0_dp, u_low, options, stats_low, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      options = paper_options()
+      call new_scheme("i-t-1", scheme, stat)
+      u_one = van_der_pol_initial_state(vdp_ic_prepared)
+      call integrate(problem, scheme, 0.0_dp, 300.0_dp, u_one, options, stats_one, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, abs(stats_low%accepted_steps - stats_one%accepted_steps) <= &
+         stats_one%accepted_steps/200, "step counts differ")
+      if (allocated(error)) return
+      call check(error, maxval(abs(u_low - u_one)) < 1.0e-5_dp, "final states differ")
+   end subroutine test_advance_low
+
+   subroutine test_invalid_options(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), nan, u_out(2, 3)
+
+      nan = ieee_value(1.0_dp, ieee_quiet_nan)
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("si-t-2", scheme, stat)
+
+      options = integrator_options_type(rtol=0.0_dp, atol=0.0_dp)
+      call expect(status_invalid_argument, "tolerance")
+      if (allocated(error)) return
+      options = integrator_options_type(rtol=nan)
+      call expect(status_invalid_argument, "rtol")
+      if (allocated(error)) return
+      options = integrator_options_type(atol=-1.0_dp)
+      call expect(status_invalid_argument, "atol")
+      if (allocated(error)) return
+      options = integrator_options_type(h0=-1.0e-3_dp)
+      call expect(status_invalid_argument, "h0")
+      if (allocated(error)) return
+      options = integrator_options_type(h_max=0.0_dp)
+      call expect(status_invalid_argument, "h_max")
+      if (allocated(error)) return
+      options = integrator_options_type(kappa=1.5_dp)
+      call expect(status_invalid_argument, "kappa")
+      if (allocated(error)) return
+      options = integrator_options_type(max_steps=0_i8)
+      call expect(status_invalid_argument, "max_steps")
+      if (allocated(error)) return
+      options = integrator_options_type()
+      options%atol_vector = [1.0e-6_dp, 1.0e-6_dp, 1.0e-6_dp]
+      call expect(status_size_mismatch, "atol_vector")
+      if (allocated(error)) return
+
+      ! times, state and dense output arrays
+      options = integrator_options_type()
+      u = [2.0_dp, 0.0_dp]
+      call integrate(problem, scheme, 1.0_dp, 1.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_invalid_argument, "t_end == t0")
+      if (allocated(error)) return
+      call integrate(problem, scheme, 1.0_dp, 0.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_invalid_argument, "t_end < t0")
+      if (allocated(error)) return
+      call check(error, index(stat%message, "backward") > 0, stat_message(stat))
+      if (allocated(error)) return
+      u = [2.0_dp, nan]
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_nonfinite, "NaN initial state")
+      if (allocated(error)) return
+      u = [2.0_dp, 0.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat, &
+         t_out=[0.5_dp, 0.2_dp, 1.0_dp], u_out=u_out)
+      call check(error, stat%code, status_invalid_argument, "t_out not ascending")
+      if (allocated(error)) return
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat, &
+         t_out=[0.5_dp, 1.0_dp], u_out=u_out)
+      call check(error, stat%code, status_size_mismatch, "u_out shape")
+      if (allocated(error)) return
+      call check(error, all(u == [2.0_dp, 0.0_dp]), "rejected input must leave u alone")
+   contains
+      subroutine expect(code, word)
+         integer, intent(in) :: code
+         character(len=*), intent(in) :: word
+         u = [2.0_dp, 0.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         call check(error, stat%code, code, word//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, index(stat%message, word) > 0, "message should name "//word//": "//stat_message(stat))
+      end subroutine expect
+   end subroutine test_invalid_options
+
+   !> h_max tiny and few steps allowed: "maximum steps" with the state at the last
+   !> accepted time, strictly between t0 and t_end.
+   subroutine test_max_steps(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      options = paper_options()
+      options%h_max = 1.0e-3_dp
+      options%h0 = 1.0e-3_dp
+      options%max_steps = 50
+      u = van_der_pol_initial_state(vdp_ic_prepared)
+      call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_max_steps, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%t_reached > 0.0_dp .and. stats%t_reached < 3000.0_dp, "t_reached")
+      if (allocated(error)) return
+      call check(error, stats%accepted_steps + stats%rejected_steps(), 50_i8, "attempts")
+      if (allocated(error)) return
+      call check(error, all(ieee_is_finite(u)) .and. abs(u(1) - 2.0_dp) < 0.01_dp, "last good state")
+      if (allocated(error)) return
+      call check(error, stats%work%f_evaluations > 0 .and. stats%work%lu_factorizations > 0, &
+         "statistics are kept on failure")
+   end subroutine test_max_steps
+
+   !> h_min far above what the layer of Van der Pol needs: step size underflow.
+   subroutine test_step_underflow(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("si-t-2", scheme, stat)
+      options = paper_options()
+      options%h_min = 1.0e-2_dp
+      u = van_der_pol_initial_state(vdp_ic_prepared)
+      call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_step_underflow, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%t_reached < 3000.0_dp .and. all(ieee_is_finite(u)), "last good state")
+   end subroutine test_step_underflow
+
+   !> g is NaN at every t > 0: each attempt fails, h shrinks, and after
+   !> max_failures attempts the integration returns the initial state.
+   subroutine test_nonfinite_values(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(poisoned_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+      character(len=*), parameter :: names(2) = ["ex-t-2", "i-t-2 "]
+      integer :: k
+
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         options = integrator_options_type(h0=0.1_dp, max_failures=4)
+         u = [1.0_dp]
+         ! ex-t-2 evaluates at the start of a step: its first step from t = 0 is finite
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         call check(error, stat%code /= status_ok, trim(names(k))//": NaN values must fail")
+         if (allocated(error)) return
+         call check(error, stat%code == status_nonfinite .or. stat%code == status_newton_not_converged &
+            .or. index(stat%message, "NaN") > 0, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, stats%rejected_nonfinite + stats%rejected_newton, 4_i8, "failed attempts")
+         if (allocated(error)) return
+         call check(error, all(ieee_is_finite(u)), "the returned state must be the last good one")
+         if (allocated(error)) return
+      end do
+   end subroutine test_nonfinite_values
+
+   !> One Newton iteration allowed and a first step far too large: the step fails
+   !> in Newton, shrinks, and after max_failures the status is Newton's.
+   subroutine test_newton_failures(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      options = paper_options()
+      options%max_newton_iterations = 1
+      options%max_failures = 3
+      u = van_der_pol_initial_state(vdp_ic_unprepared)
+      call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_newton_not_converged, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%rejected_newton, 3_i8, "Newton failures counted")
+      if (allocated(error)) return
+      call check(error, stats%t_reached, 0.0_dp, "t_reached")
+      if (allocated(error)) return
+      call check(error, all(u == van_der_pol_initial_state(vdp_ic_unprepared)), "initial state returned")
+      if (allocated(error)) return
+
+      ! with enough iterations the same run succeeds
+      options%max_newton_iterations = 10
+      call integrate(problem, scheme, 0.0_dp, 30.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+   end subroutine test_newton_failures
+
+   !> Dense output on a grid against runs that stop exactly at each grid time.
+   subroutine test_dense_output(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: n_out = 21
+      real(dp), parameter :: tol = 1.0e-6_dp
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: t_out(n_out), u_out(2, n_out), u(2), u_direct(2)
+      integer :: k
+
+      problem = new_van_der_pol(5.0_dp)
+      options%rtol = tol
+      options%atol = tol
+      options%norm = norm_rms
+      t_out = [(0.1_dp*k, k=0, n_out - 1)]
+      call new_scheme("i-t-2", scheme, stat)
+      u = [2.0_dp, 0.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 2.0_dp, u, options, stats, stat, t_out=t_out, u_out=u_out)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, all(u_out(:, 1) == [2.0_dp, 0.0_dp]), "output at t0")
+      if (allocated(error)) return
+      call check(error, all(u_out(:, n_out) == u), "output at t_end is the final state")
+      if (allocated(error)) return
+      do k = 2, n_out - 1
+         u_direct = [2.0_dp, 0.0_dp]
+         call integrate(problem, scheme, 0.0_dp, t_out(k), u_direct, options, stats, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         ! both carry a global error of order tol; the interpolant adds O(h^4) ~ tol^2
+         call check(error, maxval(abs(u_out(:, k) - u_direct)) < 20*tol, &
+            "dense output differs from a direct run at t = 0."//itoa(k - 1))
+         if (allocated(error)) return
+      end do
+   end subroutine test_dense_output
+
+   !> The history has one row per attempt, in agreement with the statistics, and
+   !> its CSV has one line per attempt plus a header.
+   subroutine test_step_history(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      real(dp) :: u(2)
+      integer :: unit, lines, io
+      character(len=*), parameter :: csv = "test_step_history.csv"
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("si-t-2", scheme, stat)
+      options = paper_options()
+      options%history_states = .true.
+      u = van_der_pol_initial_state(vdp_ic_unprepared)
+      call integrate(problem, scheme, 0.0_dp, 100.0_dp, u, options, stats, stat, history=history)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, history%count, int(stats%accepted_steps + stats%rejected_steps()), "rows")
+      if (allocated(error)) return
+      call check(error, count(history%outcome(:history%count) == attempt_accepted), &
+         int(stats%accepted_steps), "accepted rows")
+      if (allocated(error)) return
+      call check(error, abs(sum(history%h(:history%count), &
+         mask=history%outcome(:history%count) == attempt_accepted) - 100.0_dp) < 1.0e-9_dp, &
+         "accepted steps cover [0, 100]")
+      if (allocated(error)) return
+      call check(error, all(history%states(:, history%count) == u), "last recorded state")
+      if (allocated(error)) return
+
+      call write_history_csv(history, csv, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      open (newunit=unit, file=csv, status="old", action="read")
+      lines = 0
+      do
+         read (unit, *, iostat=io)
+         if (io /= 0) exit
+         lines = lines + 1
+      end do
+      close (unit, status="delete")
+      call check(error, lines, history%count + 1, "CSV lines")
+   end subroutine test_step_history
+
+   subroutine poisoned_f(self, t, u, dudt)
+      class(poisoned_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -u
+   end subroutine poisoned_f
+
+   subroutine poisoned_g(self, t, u, dudt)
+      class(poisoned_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      if (t > 0.0_dp) then
+         dudt = ieee_value(1.0_dp, ieee_quiet_nan)
+      else
+         dudt = -u
+      end if
+   end subroutine poisoned_g
+
+   subroutine poisoned_jac(self, t, u, jac)
+      class(poisoned_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = -1.0_dp
+   end subroutine poisoned_jac
+
+end module test_integrator
