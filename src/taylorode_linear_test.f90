@@ -8,6 +8,7 @@ module taylorode_linear_test
    use taylorode_kinds, only: dp
    use taylorode_problem, only: ode_problem
    use taylorode_imex_rk, only: imex_gamma, imex_c
+   use taylorode_radau, only: radau5_stability
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -59,6 +60,8 @@ contains
          y1 = 1.0_dp/(1.0_dp - imex_gamma*w)
          y2 = (1.0_dp + (imex_c*z + (1.0_dp - imex_gamma)*w)*y1)/(1.0_dp - imex_gamma*w)
          r = 1.0_dp + (1.0_dp - imex_gamma)*s*y1 + imex_gamma*s*y2
+      case ("radau5")
+         r = radau5_stability(s)
       case default
          r = cmplx(ieee_value(1.0_dp, ieee_quiet_nan), ieee_value(1.0_dp, ieee_quiet_nan), dp)
       end select

@@ -92,6 +92,9 @@ module taylorode_scheme
       real(dp), allocatable :: newton_increment(:)
       !> Pivots of the LU factorization
       integer, allocatable :: newton_pivots(:)
+      !> Contraction factor of the last two increments of the last Newton solve
+      !> (0 when it converged in one iteration)
+      real(dp) :: last_contraction = 0.0_dp
    contains
       !> Residual r(U) of nonlinear system `system` of the current step
       procedure(residual_interface), deferred :: residual
@@ -350,6 +353,7 @@ contains
 
       rebuild = .true.
       size_before = huge(1.0_dp)
+      self%last_contraction = 0.0_dp
       do iteration = 1, self%max_newton_iterations
          call self%residual(problem, system, u, self%newton_increment)
          self%counters%newton_iterations = self%counters%newton_iterations + 1
@@ -374,8 +378,9 @@ contains
             return
          end if
          size_now = maxval(abs(self%newton_increment)/self%newton_tolerance)
-         if (size_now <= 1.0_dp) return
          contraction = size_now/size_before
+         if (iteration > 1) self%last_contraction = contraction
+         if (size_now <= 1.0_dp) return
          if (contraction >= divergence_contraction .and. rebuilt) then
             call set_status(stat, status_newton_diverged, "Newton: the iteration diverged")
             return

@@ -8,16 +8,17 @@ module taylorode_schemes
       si_t_1, si_t_2, si_t_2_paper
    use taylorode_implicit_taylor, only: implicit_taylor_type, new_implicit_taylor
    use taylorode_imex_rk, only: imex_rk21_type, new_imex_rk21
+   use taylorode_radau, only: radau5_type, new_radau5
    implicit none
    private
 
    public :: new_scheme, scheme_names, scheme_count
 
    !> Number of registered schemes
-   integer, parameter :: scheme_count = 8
+   integer, parameter :: scheme_count = 9
    !> Every registered name, as users type it
    character(len=*), parameter :: scheme_names(scheme_count) = [character(len=12) :: &
-      "ex-t-1", "ex-t-2", "si-t-1", "si-t-2", "si-t-2-paper", "i-t-1", "i-t-2", "imex-rk21"]
+      "ex-t-1", "ex-t-2", "si-t-1", "si-t-2", "si-t-2-paper", "i-t-1", "i-t-2", "imex-rk21", "radau5"]
 
 contains
 
@@ -35,6 +36,7 @@ contains
       type(semi_implicit_taylor_type) :: semi_implicit
       type(implicit_taylor_type) :: implicit
       type(imex_rk21_type) :: imex
+      type(radau5_type) :: radau
       integer :: i
       character(len=:), allocatable :: valid
 
@@ -63,6 +65,9 @@ contains
       case ("imex-rk21")
          call new_imex_rk21(imex)
          scheme = imex
+      case ("radau5")
+         call new_radau5(radau)
+         scheme = radau
       case default
          valid = trim(scheme_names(1))
          do i = 2, scheme_count

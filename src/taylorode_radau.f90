@@ -1,0 +1,214 @@
+!> Radau IIA of order 5 (three stages, L-stable), the library's reference solver,
+!> written from its published definition (Hairer & Wanner, Solving Ordinary
+!> Differential Equations II, section IV.8).
+!>
+!> Stage increments Z_i = Y_i - U0 solve Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j);
+!> U1 = U0 + Z_3 (stiffly accurate). The 3n x 3n system is solved by simplified
+!> Newton with the real matrix I - h (A x J) through LAPACK; the Jacobian is kept
+!> from the previous step while Newton converges well (contraction below 1e-3).
+!> A dense 3n system costs (3n)^3/3 flops per factorization: sensible up to a few
+!> hundred unknowns.
+!>
+!> The error estimate (embedded order 3) is the filtered difference
+!>   delta = (I - h gamma0 J)^(-1) [gamma0 h F(t0, U0) + e1 Z1 + e2 Z2 + e3 Z3],
+!> gamma0 the real eigenvalue of A, e = gamma0 (-(13 + 7 sqrt 6), -13 + 7 sqrt 6, -1) / 3.
+module taylorode_radau
+   use taylorode_kinds, only: dp
+   use taylorode_status, only: status_type, set_status, status_ok, status_singular_matrix
+   use taylorode_problem, only: ode_problem
+   use taylorode_scheme, only: implicit_scheme_type, default_newton_tolerance
+   use taylorode_linalg, only: add_to_diagonal, lu_factor, lu_solve
+   implicit none
+   private
+
+   public :: radau5_type, new_radau5, radau5_stability
+
+   real(dp), parameter :: sqrt6 = sqrt(6.0_dp)
+   !> Nodes
+   real(dp), parameter :: radau_c(3) = [(4.0_dp - sqrt6)/10.0_dp, (4.0_dp + sqrt6)/10.0_dp, 1.0_dp]
+   !> Coefficient matrix, by columns
+   real(dp), parameter :: radau_a(3, 3) = reshape([ &
+      (88.0_dp - 7.0_dp*sqrt6)/360.0_dp, (296.0_dp + 169.0_dp*sqrt6)/1800.0_dp, (16.0_dp - sqrt6)/36.0_dp, &
+      (296.0_dp - 169.0_dp*sqrt6)/1800.0_dp, (88.0_dp + 7.0_dp*sqrt6)/360.0_dp, (16.0_dp + sqrt6)/36.0_dp, &
+      (-2.0_dp + 3.0_dp*sqrt6)/225.0_dp, (-2.0_dp - 3.0_dp*sqrt6)/225.0_dp, 1.0_dp/9.0_dp], [3, 3])
+   !> Real eigenvalue of A
+   real(dp), parameter :: gamma0 = (6.0_dp + 81.0_dp**(1.0_dp/3.0_dp) - 9.0_dp**(1.0_dp/3.0_dp))/30.0_dp
+   !> Weights of the stage increments in the error estimate
+   real(dp), parameter :: radau_e(3) = gamma0*[-(13.0_dp + 7.0_dp*sqrt6), -13.0_dp + 7.0_dp*sqrt6, -1.0_dp]/3.0_dp
+   !> Newton contraction below which the Jacobian is kept for the next step
+   real(dp), parameter :: jacobian_reuse_contraction = 1.0e-3_dp
+
+   !> Radau IIA, order 5, with its order-3 embedded error estimate
+   type, extends(implicit_scheme_type) :: radau5_type
+      !> State at the start of the step
+      real(dp), allocatable :: u0(:)
+      !> Stacked stage increments (Z1, Z2, Z3)
+      real(dp), allocatable :: increments(:)
+      !> Stage state and F at each stage
+      real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:)
+      !> Jacobian J = J_f + J_g used by the current Newton matrix and error estimate
+      real(dp), allocatable :: jac(:, :), jac_work(:, :)
+      !> I - h gamma0 J and its pivots, for the error estimate
+      real(dp), allocatable :: error_matrix(:, :)
+      integer, allocatable :: error_pivots(:)
+      !> Whether `jac` may serve the next step
+      logical :: jacobian_valid = .false.
+      !> Whether the Newton matrix of this step has been built
+      logical :: matrix_built = .false.
+   contains
+      procedure :: advance => radau_advance
+      procedure :: prepare => radau_prepare
+      procedure :: residual => radau_residual
+      procedure :: iteration_matrix => radau_matrix
+   end type radau5_type
+
+contains
+
+   !> Create the Radau IIA (order 5) scheme.
+   subroutine new_radau5(self)
+      !> The new scheme
+      type(radau5_type), intent(out) :: self
+      self%name = "radau5"
+      self%order = 5
+      self%embedded_order = 3
+   end subroutine new_radau5
+
+   !> Stability function of Radau IIA order 5: the (2, 3) Pade approximation of exp(z).
+   elemental function radau5_stability(z) result(r)
+      !> h times the eigenvalue
+      complex(dp), intent(in) :: z
+      complex(dp) :: r
+      r = (1.0_dp + 2.0_dp*z/5.0_dp + z**2/20.0_dp)/(1.0_dp - 3.0_dp*z/5.0_dp + 3.0_dp*z**2/20.0_dp - z**3/60.0_dp)
+   end function radau5_stability
+
+   subroutine radau_prepare(self, n)
+      class(radau5_type), intent(inout) :: self
+      integer, intent(in) :: n
+      call self%prepare_newton(3*n)
+      if (self%n == n) return
+      if (allocated(self%u0)) then
+         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%jac, self%jac_work, &
+            self%error_matrix, self%error_pivots)
+      end if
+      allocate (self%u0(n), self%increments(3*n), self%stage(n), self%stage_rhs(n, 3), self%scratch(n), self%jac(n, n), &
+         self%jac_work(n, n), self%error_matrix(n, n), self%error_pivots(n))
+      self%n = n
+      self%jacobian_valid = .false.
+   end subroutine radau_prepare
+
+   subroutine radau_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
+      class(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:)
+      real(dp), intent(out) :: u1(:)
+      type(status_type), intent(inout) :: stat
+      real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: newton_tolerance(:)
+
+      integer :: n, s, info
+
+      n = size(u0)
+      self%t0 = t
+      self%h = h
+      self%u0 = u0
+      do s = 1, 3
+         if (present(newton_tolerance)) then
+            self%newton_tolerance((s - 1)*n + 1:s*n) = max(newton_tolerance, &
+               10.0_dp*epsilon(1.0_dp)*abs(u0), tiny(1.0_dp))
+         else
+            self%newton_tolerance((s - 1)*n + 1:s*n) = default_newton_tolerance*(1.0_dp + abs(u0))
+         end if
+      end do
+
+      ! the stage increments start from zero; the solution is U0 + Z3
+      self%matrix_built = .false.
+      self%increments = 0.0_dp
+      u1 = u0
+      call self%solve_implicit(problem, 1, self%increments, stat)
+      self%jacobian_valid = stat%code == status_ok .and. self%last_contraction < jacobian_reuse_contraction
+      if (stat%code /= status_ok) return
+      u1 = u0 + self%increments(2*n + 1:3*n)
+      if (.not. present(delta)) return
+
+      call self%eval_f(problem, t, u0, delta)
+      call self%eval_g(problem, t, u0, self%scratch)
+      delta = (gamma0*h)*(delta + self%scratch)
+      do s = 1, 3
+         delta = delta + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
+      end do
+      self%error_matrix = -(h*gamma0)*self%jac
+      call add_to_diagonal(self%error_matrix, 1.0_dp)
+      call lu_factor(self%error_matrix, self%error_pivots, info)
+      self%counters%lu_factorizations = self%counters%lu_factorizations + 1
+      if (info /= 0) then
+         call set_status(stat, status_singular_matrix, "radau5: the error estimate matrix is singular")
+         return
+      end if
+      call lu_solve(self%error_matrix, self%error_pivots, delta, info)
+      self%counters%linear_solves = self%counters%linear_solves + 1
+   end subroutine radau_advance
+
+   !> r(Z) = Z - h (A x I) F(U0 + Z)
+   subroutine radau_residual(self, problem, system, u, r)
+      class(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      integer, intent(in) :: system
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: r(:)
+      integer :: n, s, j
+      real(dp) :: t_stage
+
+      n = self%n
+      do s = 1, 3
+         t_stage = self%t0 + radau_c(s)*self%h
+         self%stage = self%u0 + u((s - 1)*n + 1:s*n)
+         call self%eval_f(problem, t_stage, self%stage, self%stage_rhs(:, s))
+         call self%eval_g(problem, t_stage, self%stage, self%scratch)
+         self%stage_rhs(:, s) = self%stage_rhs(:, s) + self%scratch
+      end do
+      do s = 1, 3
+         r((s - 1)*n + 1:s*n) = u((s - 1)*n + 1:s*n)
+         do j = 1, 3
+            r((s - 1)*n + 1:s*n) = r((s - 1)*n + 1:s*n) - (self%h*radau_a(s, j))*self%stage_rhs(:, j)
+         end do
+      end do
+   end subroutine radau_residual
+
+   !> I - h (A x J). J comes from U0 at the first build of a step (or is kept from
+   !> the previous step when Newton converged fast there); a rebuild within the
+   !> step evaluates J at the current end value U0 + Z3.
+   subroutine radau_matrix(self, problem, system, u, m)
+      class(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      integer, intent(in) :: system
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: m(:, :)
+      integer :: n, s, j, i
+
+      n = self%n
+      if (self%matrix_built) then
+         self%stage = self%u0 + u(2*n + 1:3*n)
+         call jacobian_at(self%t0 + self%h, self%stage)
+      else if (.not. self%jacobian_valid) then
+         call jacobian_at(self%t0, self%u0)
+      end if
+      self%matrix_built = .true.
+      do j = 1, 3
+         do s = 1, 3
+            m((s - 1)*n + 1:s*n, (j - 1)*n + 1:j*n) = -(self%h*radau_a(s, j))*self%jac
+         end do
+      end do
+      do i = 1, 3*n
+         m(i, i) = m(i, i) + 1.0_dp
+      end do
+   contains
+      subroutine jacobian_at(t, state)
+         real(dp), intent(in) :: t, state(:)
+         call self%eval_jac_f(problem, t, state, self%jac)
+         call self%eval_jac_g(problem, t, state, self%jac_work)
+         self%jac = self%jac + self%jac_work
+      end subroutine jacobian_at
+   end subroutine radau_matrix
+
+end module taylorode_radau
