@@ -51,7 +51,7 @@ contains
       end if
       h = (t_end - t0)/real(n_steps, dp)
       allocate (u_new(size(u)))
-      call scheme%take_step(problem, t, h, u, u_new, stat)
+      call scheme%take_step(problem, t, h, u, u_new, stat)   ! checks the arguments and restarts the scheme
       if (stat%code /= status_ok) return
       u = u_new
       do i = 2, n_steps

@@ -21,8 +21,9 @@ module taylorode_integrator
 
    !> Step-size factor after a failed attempt (Newton failure or NaN/Inf values)
    real(dp), parameter :: failure_shrink = 0.25_dp
-   !> Steps shorter than this many roundoffs of t cannot advance t reliably
-   real(dp), parameter :: roundoff_steps = 16.0_dp
+   !> Steps shorter than this many roundoffs of t cannot advance t reliably (the fast
+   !> layers of Van der Pol with mu = 1e6 need steps of ~17 roundoffs of t)
+   real(dp), parameter :: roundoff_steps = 2.0_dp
 
    !> What an integration did and what it cost
    type :: integration_stats_type
@@ -113,6 +114,7 @@ contains
 
       allocate (u_new(n), delta(n), weights(n), newton_tolerance(n), scratch(n))
       call scheme%prepare(n)
+      call scheme%restart()
       select type (scheme)
       class is (implicit_scheme_type)
          scheme%max_newton_iterations = options%max_newton_iterations
@@ -153,6 +155,7 @@ contains
          call error_weights(u, u)
          newton_tolerance = options%newton_fraction*weights
          newton_before = scheme%counters%newton_iterations
+         step_stat = status_type()
          call scheme%advance(problem, t, h, u, u_new, step_stat, delta, newton_tolerance)
          if (step_stat%code == status_ok) then
             if (.not. (all(ieee_is_finite(u_new)) .and. all(ieee_is_finite(delta)))) then

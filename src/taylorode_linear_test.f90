@@ -6,17 +6,17 @@
 !> lands on (Re R, Im R).
 module taylorode_linear_test
    use taylorode_kinds, only: dp
-   use taylorode_problem, only: ode_problem
+   use taylorode_problem, only: test_problem_type
    use taylorode_imex_rk, only: imex_gamma, imex_c
    use taylorode_radau, only: radau5_stability
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    implicit none
    private
 
-   public :: linear_test_type, stability_function
+   public :: linear_test_type, new_linear_test, stability_function
 
    !> u' = lambda u + nu u on the real 2-vector representing a complex number
-   type, extends(ode_problem) :: linear_test_type
+   type, extends(test_problem_type) :: linear_test_type
       !> Eigenvalue of the non-stiff part f
       complex(dp) :: lambda = (0.0_dp, 0.0_dp)
       !> Eigenvalue of the stiff part g
@@ -29,6 +29,25 @@ module taylorode_linear_test
    end type linear_test_type
 
 contains
+
+   !> The linear test problem with eigenvalues lambda (f) and nu (g), from (1, 0)
+   !> over [0, 1]; the exact solution exp(lambda + nu) is attached.
+   pure function new_linear_test(lambda, nu) result(self)
+      !> Eigenvalue of the non-stiff part
+      complex(dp), intent(in) :: lambda
+      !> Eigenvalue of the stiff part
+      complex(dp), intent(in) :: nu
+      type(linear_test_type) :: self
+      complex(dp) :: exact
+      self%lambda = lambda
+      self%nu = nu
+      self%name = "linear"
+      self%t_end = 1.0_dp
+      self%u0 = [1.0_dp, 0.0_dp]
+      exact = exp(lambda + nu)
+      self%reference = [exact%re, exact%im]
+      self%source = "the linear test equation u' = lambda u + nu u (METHODS.md section 4)"
+   end function new_linear_test
 
    !> Exact stability function R(z, w) of the scheme `name`; NaN for a name
    !> that is not a scheme.

@@ -8,7 +8,7 @@ module taylorode_problem
    implicit none
    private
 
-   public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface
+   public :: ode_problem, ode_problem_fd, test_problem_type, rhs_interface, jacobian_interface
 
    !> Abstract problem with a non-stiff part f, a stiff part g and their Jacobians
    type, abstract :: ode_problem
@@ -31,6 +31,27 @@ module taylorode_problem
       !> Forward-difference approximation of dg/dU
       procedure :: jac_g => fd_jac_g
    end type ode_problem_fd
+
+   !> A ready problem of the library's test set: what it is, where it starts and ends,
+   !> the tolerances it is meant to be run with and its published solution at t_end
+   type, abstract, extends(ode_problem) :: test_problem_type
+      !> Name as users type it (e.g. "robertson")
+      character(len=:), allocatable :: name
+      !> Standard initial time
+      real(dp) :: t0 = 0.0_dp
+      !> Standard final time
+      real(dp) :: t_end = 1.0_dp
+      !> Standard initial state
+      real(dp), allocatable :: u0(:)
+      !> Recommended relative tolerance
+      real(dp) :: rtol = 1.0e-6_dp
+      !> Recommended absolute tolerance
+      real(dp) :: atol = 1.0e-6_dp
+      !> Published solution at t_end, when one exists
+      real(dp), allocatable :: reference(:)
+      !> Where the definition and the reference values come from
+      character(len=:), allocatable :: source
+   end type test_problem_type
 
    abstract interface
       !> Right-hand side part: writes f(t, u) or g(t, u) into `dudt`

@@ -5,13 +5,17 @@
 !> Stage increments Z_i = Y_i - U0 solve Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j);
 !> U1 = U0 + Z_3 (stiffly accurate). The 3n x 3n system is solved by simplified
 !> Newton with the real matrix I - h (A x J) through LAPACK; the Jacobian is kept
-!> from the previous step while Newton converges well (contraction below 1e-3).
+!> from the previous step while Newton converges well (contraction below 1e-3), and
+!> a slowly contracting iteration switches to the exact stage-wise Newton matrix.
 !> A dense 3n system costs (3n)^3/3 flops per factorization: sensible up to a few
 !> hundred unknowns.
 !>
 !> The error estimate (embedded order 3) is the filtered difference
 !>   delta = (I - h gamma0 J)^(-1) [gamma0 h F(t0, U0) + e1 Z1 + e2 Z2 + e3 Z3],
 !> gamma0 the real eigenvalue of A, e = gamma0 (-(13 + 7 sqrt 6), -13 + 7 sqrt 6, -1) / 3.
+!> At the first step and on a retry after a rejection the estimate is filtered once
+!> more, with F(t0, U0 + delta) in place of F(t0, U0), as Hairer & Wanner recommend
+!> for stiff components.
 module taylorode_radau
    use taylorode_kinds, only: dp
    use taylorode_status, only: status_type, set_status, status_ok, status_singular_matrix
@@ -44,10 +48,12 @@ module taylorode_radau
       real(dp), allocatable :: u0(:)
       !> Stacked stage increments (Z1, Z2, Z3)
       real(dp), allocatable :: increments(:)
-      !> Stage state and F at each stage
-      real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:)
+      !> Stage state, F at each stage and F(t0, U0)
+      real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:), rhs0(:)
       !> Jacobian J = J_f + J_g used by the current Newton matrix and error estimate
       real(dp), allocatable :: jac(:, :), jac_work(:, :)
+      !> Jacobian at one stage, for the exact Newton matrix of a rebuild
+      real(dp), allocatable :: jac_stage(:, :)
       !> I - h gamma0 J and its pivots, for the error estimate
       real(dp), allocatable :: error_matrix(:, :)
       integer, allocatable :: error_pivots(:)
@@ -55,11 +61,16 @@ module taylorode_radau
       logical :: jacobian_valid = .false.
       !> Whether the Newton matrix of this step has been built
       logical :: matrix_built = .false.
+      !> Start of the previous step, to recognise a retry from the same state
+      real(dp) :: previous_t0 = -huge(1.0_dp)
+      !> Whether any step was attempted since the work arrays were prepared
+      logical :: started = .false.
    contains
       procedure :: advance => radau_advance
       procedure :: prepare => radau_prepare
       procedure :: residual => radau_residual
       procedure :: iteration_matrix => radau_matrix
+      procedure :: restart => radau_restart
    end type radau5_type
 
 contains
@@ -81,19 +92,28 @@ contains
       r = (1.0_dp + 2.0_dp*z/5.0_dp + z**2/20.0_dp)/(1.0_dp - 3.0_dp*z/5.0_dp + 3.0_dp*z**2/20.0_dp - z**3/60.0_dp)
    end function radau5_stability
 
+   !> Forget the kept Jacobian and the previous step (new problem or integration).
+   subroutine radau_restart(self)
+      class(radau5_type), intent(inout) :: self
+      self%jacobian_valid = .false.
+      self%started = .false.
+   end subroutine radau_restart
+
    subroutine radau_prepare(self, n)
       class(radau5_type), intent(inout) :: self
       integer, intent(in) :: n
       call self%prepare_newton(3*n)
       if (self%n == n) return
       if (allocated(self%u0)) then
-         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%jac, self%jac_work, &
+         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%rhs0, self%jac, &
+            self%jac_work, self%jac_stage, &
             self%error_matrix, self%error_pivots)
       end if
-      allocate (self%u0(n), self%increments(3*n), self%stage(n), self%stage_rhs(n, 3), self%scratch(n), self%jac(n, n), &
-         self%jac_work(n, n), self%error_matrix(n, n), self%error_pivots(n))
+      allocate (self%u0(n), self%increments(3*n), self%stage(n), self%stage_rhs(n, 3), self%scratch(n), &
+         self%rhs0(n), self%jac(n, n), &
+         self%jac_work(n, n), self%jac_stage(n, n), self%error_matrix(n, n), self%error_pivots(n))
       self%n = n
-      self%jacobian_valid = .false.
+      call self%restart()
    end subroutine radau_prepare
 
    subroutine radau_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
@@ -107,8 +127,13 @@ contains
       real(dp), intent(in), optional :: newton_tolerance(:)
 
       integer :: n, s, info
+      logical :: retry
 
       n = size(u0)
+      retry = .not. self%started
+      if (self%started) retry = t == self%previous_t0 .and. all(u0 == self%u0)
+      self%started = .true.
+      self%previous_t0 = t
       self%t0 = t
       self%h = h
       self%u0 = u0
@@ -121,9 +146,15 @@ contains
          end if
       end do
 
-      ! the stage increments start from zero; the solution is U0 + Z3
+      ! the stage increments start from the explicit guess Z_j = c_j h F(t0, U0),
+      ! which the error estimate reuses; the solution is U0 + Z3
+      call self%eval_f(problem, t, u0, self%rhs0)
+      call self%eval_g(problem, t, u0, self%scratch)
+      self%rhs0 = self%rhs0 + self%scratch
+      do s = 1, 3
+         self%increments((s - 1)*n + 1:s*n) = (radau_c(s)*h)*self%rhs0
+      end do
       self%matrix_built = .false.
-      self%increments = 0.0_dp
       u1 = u0
       call self%solve_implicit(problem, 1, self%increments, stat)
       self%jacobian_valid = stat%code == status_ok .and. self%last_contraction < jacobian_reuse_contraction
@@ -131,9 +162,7 @@ contains
       u1 = u0 + self%increments(2*n + 1:3*n)
       if (.not. present(delta)) return
 
-      call self%eval_f(problem, t, u0, delta)
-      call self%eval_g(problem, t, u0, self%scratch)
-      delta = (gamma0*h)*(delta + self%scratch)
+      delta = (gamma0*h)*self%rhs0
       do s = 1, 3
          delta = delta + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
       end do
@@ -145,6 +174,19 @@ contains
          call set_status(stat, status_singular_matrix, "radau5: the error estimate matrix is singular")
          return
       end if
+      call lu_solve(self%error_matrix, self%error_pivots, delta, info)
+      self%counters%linear_solves = self%counters%linear_solves + 1
+      if (.not. retry) return
+
+      ! first step or a retry after a rejection: filter once more through F at
+      ! U0 + delta, which removes the stiff components that inflate the estimate
+      self%stage = u0 + delta
+      call self%eval_f(problem, t, self%stage, delta)
+      call self%eval_g(problem, t, self%stage, self%scratch)
+      delta = (gamma0*h)*(delta + self%scratch)
+      do s = 1, 3
+         delta = delta + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
+      end do
       call lu_solve(self%error_matrix, self%error_pivots, delta, info)
       self%counters%linear_solves = self%counters%linear_solves + 1
    end subroutine radau_advance
@@ -175,9 +217,11 @@ contains
       end do
    end subroutine radau_residual
 
-   !> I - h (A x J). J comes from U0 at the first build of a step (or is kept from
-   !> the previous step when Newton converged fast there); a rebuild within the
-   !> step evaluates J at the current end value U0 + Z3.
+   !> Newton matrix of the stage system. The first build of a step uses one
+   !> Jacobian J for every stage, I - h (A x J), with J from U0 (or kept from the
+   !> previous step when Newton converged fast there): this J also serves the error
+   !> estimate. A rebuild within the step (poor contraction) forms the exact
+   !> derivative, with J(Y_j) at each stage in block column j.
    subroutine radau_matrix(self, problem, system, u, m)
       class(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -187,27 +231,31 @@ contains
       integer :: n, s, j, i
 
       n = self%n
-      if (self%matrix_built) then
-         self%stage = self%u0 + u(2*n + 1:3*n)
-         call jacobian_at(self%t0 + self%h, self%stage)
-      else if (.not. self%jacobian_valid) then
-         call jacobian_at(self%t0, self%u0)
+      if (.not. self%matrix_built .and. .not. self%jacobian_valid) then
+         call jacobian_at(self%t0, self%u0, self%jac)
       end if
-      self%matrix_built = .true.
       do j = 1, 3
+         if (self%matrix_built) then
+            self%stage = self%u0 + u((j - 1)*n + 1:j*n)
+            call jacobian_at(self%t0 + radau_c(j)*self%h, self%stage, self%jac_stage)
+         else
+            self%jac_stage = self%jac
+         end if
          do s = 1, 3
-            m((s - 1)*n + 1:s*n, (j - 1)*n + 1:j*n) = -(self%h*radau_a(s, j))*self%jac
+            m((s - 1)*n + 1:s*n, (j - 1)*n + 1:j*n) = -(self%h*radau_a(s, j))*self%jac_stage
          end do
       end do
+      self%matrix_built = .true.
       do i = 1, 3*n
          m(i, i) = m(i, i) + 1.0_dp
       end do
    contains
-      subroutine jacobian_at(t, state)
+      subroutine jacobian_at(t, state, jac)
          real(dp), intent(in) :: t, state(:)
-         call self%eval_jac_f(problem, t, state, self%jac)
+         real(dp), intent(out) :: jac(:, :)
+         call self%eval_jac_f(problem, t, state, jac)
          call self%eval_jac_g(problem, t, state, self%jac_work)
-         self%jac = self%jac + self%jac_work
+         jac = jac + self%jac_work
       end subroutine jacobian_at
    end subroutine radau_matrix
 

@@ -66,6 +66,8 @@ module taylorode_scheme
       procedure(advance_interface), deferred :: advance
       !> Allocate work arrays for systems of size n (no-op when already sized)
       procedure(prepare_interface), deferred :: prepare
+      !> Forget what is kept from earlier steps (a new integration or a new problem)
+      procedure :: restart
       !> Counted evaluation of f
       procedure, non_overridable :: eval_f
       !> Counted evaluation of g
@@ -224,11 +226,18 @@ contains
          return
       end if
       call self%prepare(size(u0))
+      call self%restart()
       call self%advance(problem, t, h, u0, u1, stat, delta)
       if (stat%code == status_ok .and. .not. all(ieee_is_finite(u1))) then
          call set_status(stat, status_nonfinite, "take_step: the new state contains NaN or Inf")
       end if
    end subroutine take_step
+
+   !> Forget what is kept from earlier steps; the Taylor schemes keep nothing.
+   subroutine restart(self)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+   end subroutine restart
 
    !> Counted evaluation of f.
    subroutine eval_f(self, problem, t, u, value)

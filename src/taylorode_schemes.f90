@@ -43,31 +43,31 @@ contains
       select case (trim(adjustl(name)))
       case ("ex-t-1")
          call new_explicit_taylor(explicit, 1)
-         scheme = explicit
+         allocate (scheme, source=explicit)
       case ("ex-t-2")
          call new_explicit_taylor(explicit, 2)
-         scheme = explicit
+         allocate (scheme, source=explicit)
       case ("si-t-1")
          call new_semi_implicit_taylor(semi_implicit, si_t_1)
-         scheme = semi_implicit
+         allocate (scheme, source=semi_implicit)
       case ("si-t-2")
          call new_semi_implicit_taylor(semi_implicit, si_t_2)
-         scheme = semi_implicit
+         allocate (scheme, source=semi_implicit)
       case ("si-t-2-paper")
          call new_semi_implicit_taylor(semi_implicit, si_t_2_paper)
-         scheme = semi_implicit
+         allocate (scheme, source=semi_implicit)
       case ("i-t-1")
          call new_implicit_taylor(implicit, 1)
-         scheme = implicit
+         allocate (scheme, source=implicit)
       case ("i-t-2")
          call new_implicit_taylor(implicit, 2)
-         scheme = implicit
+         allocate (scheme, source=implicit)
       case ("imex-rk21")
          call new_imex_rk21(imex)
-         scheme = imex
+         allocate (scheme, source=imex)
       case ("radau5")
          call new_radau5(radau)
-         scheme = radau
+         allocate (scheme, source=radau)
       case default
          valid = trim(scheme_names(1))
          do i = 2, scheme_count

@@ -6,7 +6,7 @@
 !> Stiff splitting:  f = (z, 0),   g = (0, mu (1 - y^2) z - y).
 module taylorode_van_der_pol
    use taylorode_kinds, only: dp
-   use taylorode_problem, only: ode_problem
+   use taylorode_problem, only: test_problem_type
    implicit none
    private
 
@@ -22,8 +22,13 @@ module taylorode_van_der_pol
    !> IC2, unprepared: y = 2, z = 0
    integer, parameter :: vdp_ic_unprepared = 2
 
+   !> Reference values at t = 3000 for mu = 1000 (METHODS.md section 5), by initial condition
+   real(dp), parameter :: reference_mu_1000(2, 2) = reshape([ &
+      -1.5102139907362793_dp, 1.1791653311113964e-3_dp, &
+      -1.5106069367443018_dp, 1.1783800007305336e-3_dp], [2, 2])
+
    !> Van der Pol oscillator with stiffness parameter mu
-   type, extends(ode_problem) :: van_der_pol_type
+   type, extends(test_problem_type) :: van_der_pol_type
       !> Stiffness parameter
       real(dp) :: mu = 1000.0_dp
       !> vdp_split_paper or vdp_split_stiff
@@ -37,15 +42,34 @@ module taylorode_van_der_pol
 
 contains
 
-   !> Create the problem with parameter mu and a splitting (default: the paper's).
-   pure function new_van_der_pol(mu, splitting) result(self)
+   !> Create the problem with parameter mu, a splitting (default: the paper's) and
+   !> the paper's time span [0, 3 mu] from IC1 (or `ic`). The paper's tolerances
+   !> (atol 1e-5, rtol 0) are the recommended ones; for mu = 1000 the reference
+   !> solution at t = 3000 of METHODS.md section 5 is attached.
+   pure function new_van_der_pol(mu, splitting, ic) result(self)
       !> Stiffness parameter
       real(dp), intent(in) :: mu
       !> vdp_split_paper (default) or vdp_split_stiff
       integer, intent(in), optional :: splitting
+      !> vdp_ic_prepared (default) or vdp_ic_unprepared
+      integer, intent(in), optional :: ic
       type(van_der_pol_type) :: self
+      integer :: initial
+
       self%mu = mu
       if (present(splitting)) self%splitting = splitting
+      initial = vdp_ic_prepared
+      if (present(ic)) initial = ic
+      self%name = "vdp"
+      self%t0 = 0.0_dp
+      self%t_end = 3.0_dp*mu
+      self%u0 = van_der_pol_initial_state(initial)
+      self%rtol = 0.0_dp
+      self%atol = 1.0e-5_dp
+      if (mu == 1000.0_dp .and. (initial == vdp_ic_prepared .or. initial == vdp_ic_unprepared)) then
+         self%reference = reference_mu_1000(:, initial)
+      end if
+      self%source = "Boscarino & Macca, section 5; reference values: METHODS.md section 5"
    end function new_van_der_pol
 
    !> The paper's initial states: IC1 (vdp_ic_prepared) or IC2 (vdp_ic_unprepared).

@@ -5,6 +5,7 @@ program tester
    use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type
    use test_integrator, only: collect_integrator
    use test_problems, only: collect_problems
+   use test_reference, only: collect_reference
    use test_schemes, only: collect_schemes
    implicit none
 
@@ -16,7 +17,8 @@ program tester
    suites = [ &
       new_testsuite("problems", collect_problems), &
       new_testsuite("schemes", collect_schemes), &
-      new_testsuite("integrator", collect_integrator) &
+      new_testsuite("integrator", collect_integrator), &
+      new_testsuite("reference", collect_reference) &
       ]
    passed = 0
    failed = 0

@@ -4,7 +4,8 @@ module test_problems
    use testdrive, only: new_unittest, unittest_type, error_type, check
    use taylorode, only: dp, ode_problem, ode_problem_fd, van_der_pol_type, new_van_der_pol, &
       vdp_split_paper, vdp_split_stiff, linear_test_type, scheme_type, status_type, new_scheme, &
-      integrate_fixed, status_ok, van_der_pol_initial_state, vdp_ic_prepared
+      integrate_fixed, status_ok, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, &
+      new_test_problem, test_problem_names, test_problem_count
    implicit none
    private
 
@@ -32,7 +33,9 @@ contains
          new_unittest("van-der-pol-jacobians", test_van_der_pol_jacobians), &
          new_unittest("linear-test-jacobians", test_linear_test_jacobians), &
          new_unittest("problem-without-jacobians", test_problem_without_jacobians), &
-         new_unittest("van-der-pol-initial-states", test_initial_states) &
+         new_unittest("van-der-pol-initial-states", test_initial_states), &
+         new_unittest("test-set-jacobians", test_test_set_jacobians), &
+         new_unittest("unknown-problem", test_unknown_problem) &
          ]
    end subroutine collect_problems
 
@@ -119,6 +122,85 @@ contains
       ! Newton tolerance (1e-13 relative) separate the two runs.
       call check(error, maxval(abs(u_a - u_d)) < 1.0e-10_dp, "finite-difference run differs")
    end subroutine test_problem_without_jacobians
+
+   !> Every problem of the test set: analytic Jacobians of f and g against central
+   !> differences at the initial state and at a perturbed state. Central differences
+   !> are exact for the quadratic kinetics; with increments 1e-6 max(|u_j|, 1e-3) the
+   !> truncation (cubic and trigonometric terms) and roundoff stay below 1e-7 of the
+   !> largest entry.
+   subroutine test_test_set_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      class(test_problem_type), allocatable :: problem
+      type(status_type) :: stat
+      real(dp), allocatable :: state(:)
+      integer :: k, i, which
+
+      do k = 1, test_problem_count
+         call new_test_problem(test_problem_names(k), problem, stat)
+         call check(error, stat%code, status_ok, stat%message)
+         if (allocated(error)) return
+         state = problem%u0
+         do which = 1, 2
+            if (which == 2) state = problem%u0 + 0.01_dp*(1.0_dp + abs(problem%u0))* &
+               [(sin(1.3_dp*i), i=1, size(state))]
+            call compare_central(error, problem, 0.3_dp, state, .true., trim(test_problem_names(k)))
+            if (allocated(error)) return
+            call compare_central(error, problem, 0.3_dp, state, .false., trim(test_problem_names(k)))
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine test_test_set_jacobians
+
+   subroutine compare_central(error, problem, t, u, of_f, label)
+      type(error_type), allocatable, intent(out) :: error
+      class(test_problem_type), intent(inout) :: problem
+      real(dp), intent(in) :: t, u(:)
+      logical, intent(in) :: of_f
+      character(len=*), intent(in) :: label
+      real(dp) :: jac(size(u), size(u)), column(size(u)), plus(size(u)), minus(size(u)), probe(size(u))
+      real(dp) :: step, worst, scale
+      integer :: j
+
+      if (of_f) then
+         call problem%jac_f(t, u, jac)
+      else
+         call problem%jac_g(t, u, jac)
+      end if
+      scale = max(1.0_dp, maxval(abs(jac)))
+      worst = 0.0_dp
+      do j = 1, size(u)
+         step = 1.0e-6_dp*max(abs(u(j)), 1.0e-3_dp)
+         probe = u
+         probe(j) = u(j) + step
+         call evaluate(probe, plus)
+         probe(j) = u(j) - step
+         call evaluate(probe, minus)
+         column = (plus - minus)/(2.0_dp*step)
+         worst = max(worst, maxval(abs(column - jac(:, j))))
+      end do
+      call check(error, worst/scale < 1.0e-7_dp, label//merge(": df/dU", ": dg/dU", of_f)// &
+         " differs from central differences")
+   contains
+      subroutine evaluate(state, value)
+         real(dp), intent(in) :: state(:)
+         real(dp), intent(out) :: value(:)
+         if (of_f) then
+            call problem%f(t, state, value)
+         else
+            call problem%g(t, state, value)
+         end if
+      end subroutine evaluate
+   end subroutine compare_central
+
+   subroutine test_unknown_problem(error)
+      type(error_type), allocatable, intent(out) :: error
+      class(test_problem_type), allocatable :: problem
+      type(status_type) :: stat
+      call new_test_problem("lorenz", problem, stat)
+      call check(error, stat%code /= status_ok .and. .not. allocated(problem), "unknown problem accepted")
+      if (allocated(error)) return
+      call check(error, index(stat%message, "robertson") > 0, "message should list the valid names")
+   end subroutine test_unknown_problem
 
    subroutine test_initial_states(error)
       type(error_type), allocatable, intent(out) :: error

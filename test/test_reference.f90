@@ -1,0 +1,215 @@
+!> The reference solver radau5 and the stiff test set: order, published
+!> reference values, and every scheme on the extreme cases.
+module test_reference
+   use testdrive, only: new_unittest, unittest_type, error_type, check
+   use test_support, only: stat_message, rtoa
+   use taylorode, only: dp, i8, scheme_type, status_type, new_scheme, integrate, integrate_fixed, &
+      integrator_options_type, integration_stats_type, van_der_pol_type, new_van_der_pol, &
+      vdp_ic_prepared, vdp_ic_unprepared, robertson_type, new_robertson, status_ok, status_max_steps
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   implicit none
+   private
+
+   public :: collect_reference
+
+   !> Schemes whose stiff part is L-stable
+   character(len=*), parameter :: l_stable(4) = ["si-t-1", "si-t-2", "i-t-1 ", "i-t-2 "]
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_reference(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("radau5-order", test_radau_order), &
+         new_unittest("radau5-van-der-pol-reference", test_radau_van_der_pol), &
+         new_unittest("radau5-robertson-reference", test_radau_robertson), &
+         new_unittest("l-stable-schemes-robertson-1e11", test_schemes_robertson), &
+         new_unittest("l-stable-schemes-van-der-pol-1e6", test_schemes_van_der_pol), &
+         new_unittest("explicit-schemes-fail-cleanly", test_explicit_fail_cleanly) &
+         ]
+   end subroutine collect_reference
+
+   !> Fixed steps on Van der Pol mu = 1 over [0, 1]: order 5 (measured 4.96 between
+   !> 8 and 16 steps, where the errors are 7.8e-8 and 2.5e-9).
+   subroutine test_radau_order(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: reference(2), u(2), errors(2)
+      integer :: i
+
+      problem = new_van_der_pol(1.0_dp)
+      call new_scheme("radau5", scheme, stat)
+      reference = [2.0_dp, 0.0_dp]
+      call integrate_fixed(problem, scheme, 0.0_dp, 1.0_dp, 1024, reference, stat)
+      do i = 1, 2
+         u = [2.0_dp, 0.0_dp]
+         call integrate_fixed(problem, scheme, 0.0_dp, 1.0_dp, 8*i, u, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         errors(i) = maxval(abs(u - reference))
+      end do
+      call check(error, log(errors(1)/errors(2))/log(2.0_dp), 5.0_dp, "radau5 order", thr=0.1_dp)
+   end subroutine test_radau_order
+
+   !> Both initial conditions of the paper at t = 3000 to 1e-9 (measured: 2e-13).
+   subroutine test_radau_van_der_pol(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      integer :: ic
+
+      options = integrator_options_type(rtol=1.0e-12_dp, atol=1.0e-12_dp)
+      do ic = vdp_ic_prepared, vdp_ic_unprepared
+         problem = new_van_der_pol(1000.0_dp, ic=ic)
+         call new_scheme("radau5", scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, problem%t0, problem%t_end, u, options, stats, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         call check(error, maxval(abs(u - problem%reference)) < 1.0e-9_dp, &
+            "radau5 misses the Van der Pol reference by "//rtoa(maxval(abs(u - problem%reference))))
+         if (allocated(error)) return
+      end do
+   end subroutine test_radau_van_der_pol
+
+   !> Robertson at t = 40 and 1e11 against the Bari test set to 1e-6 relative
+   !> (measured: 4e-13 and 8e-9), non-negative to roundoff, mass conserved to 1e-10.
+   subroutine test_radau_robertson(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: ends(2) = [40.0_dp, 1.0e11_dp]
+      type(robertson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(3)
+      integer :: k
+
+      options = integrator_options_type(rtol=1.0e-10_dp, atol=1.0e-20_dp)
+      do k = 1, size(ends)
+         problem = new_robertson(ends(k))
+         call new_scheme("radau5", scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, problem%t0, problem%t_end, u, options, stats, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         call check(error, maxval(abs(u - problem%reference)/problem%reference) < 1.0e-6_dp, &
+            "Robertson at t = "//rtoa(ends(k))//": relative error "// &
+            rtoa(maxval(abs(u - problem%reference)/problem%reference)))
+         if (allocated(error)) return
+         call check(error, minval(u) >= -1.0e-20_dp, "negative concentration")
+         if (allocated(error)) return
+         call check(error, abs(sum(u) - 1.0_dp) <= 1.0e-10_dp, "mass not conserved")
+         if (allocated(error)) return
+      end do
+   end subroutine test_radau_robertson
+
+   !> The L-stable schemes complete Robertson to 1e11 with its recommended
+   !> tolerances; each part of the split conserves mass, so the sum stays 1 up to
+   !> the Newton tolerance accumulated over the steps (measured <= 3e-9).
+   subroutine test_schemes_robertson(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(robertson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(3)
+      integer :: k
+
+      problem = new_robertson(1.0e11_dp)
+      options = integrator_options_type(rtol=problem%rtol, atol=problem%atol)
+      do k = 1, size(l_stable)
+         call new_scheme(trim(l_stable(k)), scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, problem%t0, problem%t_end, u, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(l_stable(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, all(ieee_is_finite(u)) .and. abs(sum(u) - 1.0_dp) < 1.0e-8_dp, &
+            trim(l_stable(k))//": state or mass wrong at 1e11")
+         if (allocated(error)) return
+         call check(error, u(3) > 0.99_dp, trim(l_stable(k))//": y3 should approach 1")
+         if (allocated(error)) return
+      end do
+   end subroutine test_schemes_robertson
+
+   !> The L-stable schemes complete Van der Pol mu = 1e6 over [0, 3e6] at
+   !> rtol = atol = 1e-5; i-t-2 lands within 1e-3 of radau5 in y (measured 1e-5).
+   subroutine test_schemes_van_der_pol(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), reference(2)
+      integer :: k
+
+      problem = new_van_der_pol(1.0e6_dp)
+      call new_scheme("radau5", scheme, stat)
+      reference = problem%u0
+      options = integrator_options_type(rtol=1.0e-10_dp, atol=1.0e-10_dp)
+      call integrate(problem, scheme, problem%t0, problem%t_end, reference, options, stats, stat)
+      call check(error, stat%code, status_ok, "radau5: "//stat_message(stat))
+      if (allocated(error)) return
+
+      options = integrator_options_type(rtol=1.0e-5_dp, atol=1.0e-5_dp, max_steps=2000000_i8)
+      do k = 1, size(l_stable)
+         call new_scheme(trim(l_stable(k)), scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, problem%t0, problem%t_end, u, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(l_stable(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, all(ieee_is_finite(u)) .and. abs(u(1)) < 2.1_dp, trim(l_stable(k))//": state")
+         if (allocated(error)) return
+         if (trim(l_stable(k)) == "i-t-2") then
+            call check(error, abs(u(1) - reference(1)) < 1.0e-3_dp, "i-t-2 far from radau5 at 3e6")
+            if (allocated(error)) return
+         end if
+      end do
+   end subroutine test_schemes_van_der_pol
+
+   !> The explicit schemes cannot take stiff steps: they stop with "maximum steps"
+   !> and a finite last state, never NaN.
+   subroutine test_explicit_fail_cleanly(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = ["ex-t-1", "ex-t-2"]
+      type(robertson_type) :: robertson
+      type(van_der_pol_type) :: van_der_pol
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u3(3), u2(2)
+      integer :: k
+
+      robertson = new_robertson(1.0e11_dp)
+      van_der_pol = new_van_der_pol(1.0e6_dp)
+      do k = 1, size(names)
+         call new_scheme(names(k), scheme, stat)
+         options = integrator_options_type(rtol=robertson%rtol, atol=robertson%atol, max_steps=100000_i8)
+         u3 = robertson%u0
+         call integrate(robertson, scheme, robertson%t0, robertson%t_end, u3, options, stats, stat)
+         call check(error, stat%code, status_max_steps, names(k)//" Robertson: "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, all(ieee_is_finite(u3)) .and. stats%t_reached < robertson%t_end, &
+            names(k)//" Robertson: last state")
+         if (allocated(error)) return
+         options = integrator_options_type(rtol=1.0e-5_dp, atol=1.0e-5_dp, max_steps=100000_i8)
+         u2 = van_der_pol%u0
+         call integrate(van_der_pol, scheme, van_der_pol%t0, van_der_pol%t_end, u2, options, stats, stat)
+         call check(error, stat%code, status_max_steps, names(k)//" Van der Pol: "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, all(ieee_is_finite(u2)), names(k)//" Van der Pol: last state")
+         if (allocated(error)) return
+      end do
+   end subroutine test_explicit_fail_cleanly
+
+end module test_reference
