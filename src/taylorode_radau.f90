@@ -48,8 +48,8 @@ module taylorode_radau
       real(dp), allocatable :: u0(:)
       !> Stacked stage increments (Z1, Z2, Z3)
       real(dp), allocatable :: increments(:)
-      !> Stage state, F at each stage and F(t0, U0)
-      real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:), rhs0(:)
+      !> Stage state, F at each stage, F(t0, U0) and the error estimate
+      real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:), rhs0(:), estimate(:)
       !> Jacobian J = J_f + J_g used by the current Newton matrix and error estimate
       real(dp), allocatable :: jac(:, :), jac_work(:, :)
       !> Jacobian at one stage, for the exact Newton matrix of a rebuild
@@ -105,12 +105,12 @@ contains
       call self%prepare_newton(3*n)
       if (self%n == n) return
       if (allocated(self%u0)) then
-         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%rhs0, self%jac, &
+         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%rhs0, self%estimate, self%jac, &
             self%jac_work, self%jac_stage, &
             self%error_matrix, self%error_pivots)
       end if
       allocate (self%u0(n), self%increments(3*n), self%stage(n), self%stage_rhs(n, 3), self%scratch(n), &
-         self%rhs0(n), self%jac(n, n), &
+         self%rhs0(n), self%estimate(n), self%jac(n, n), &
          self%jac_work(n, n), self%jac_stage(n, n), self%error_matrix(n, n), self%error_pivots(n))
       self%n = n
       call self%restart()
@@ -162,9 +162,9 @@ contains
       u1 = u0 + self%increments(2*n + 1:3*n)
       if (.not. present(delta)) return
 
-      delta = (gamma0*h)*self%rhs0
+      self%estimate = (gamma0*h)*self%rhs0
       do s = 1, 3
-         delta = delta + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
+         self%estimate = self%estimate + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
       end do
       self%error_matrix = -(h*gamma0)*self%jac
       call add_to_diagonal(self%error_matrix, 1.0_dp)
@@ -174,21 +174,23 @@ contains
          call set_status(stat, status_singular_matrix, "radau5: the error estimate matrix is singular")
          return
       end if
-      call lu_solve(self%error_matrix, self%error_pivots, delta, info)
+      call lu_solve(self%error_matrix, self%error_pivots, self%estimate, info)
       self%counters%linear_solves = self%counters%linear_solves + 1
-      if (.not. retry) return
 
-      ! first step or a retry after a rejection: filter once more through F at
-      ! U0 + delta, which removes the stiff components that inflate the estimate
-      self%stage = u0 + delta
-      call self%eval_f(problem, t, self%stage, delta)
-      call self%eval_g(problem, t, self%stage, self%scratch)
-      delta = (gamma0*h)*(delta + self%scratch)
-      do s = 1, 3
-         delta = delta + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
-      end do
-      call lu_solve(self%error_matrix, self%error_pivots, delta, info)
-      self%counters%linear_solves = self%counters%linear_solves + 1
+      if (retry) then
+         ! first step or a retry after a rejection: filter once more through F at
+         ! U0 + delta, which removes the stiff components that inflate the estimate
+         self%stage = u0 + self%estimate
+         call self%eval_f(problem, t, self%stage, self%estimate)
+         call self%eval_g(problem, t, self%stage, self%scratch)
+         self%estimate = (gamma0*h)*(self%estimate + self%scratch)
+         do s = 1, 3
+            self%estimate = self%estimate + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
+         end do
+         call lu_solve(self%error_matrix, self%error_pivots, self%estimate, info)
+         self%counters%linear_solves = self%counters%linear_solves + 1
+      end if
+      delta = self%estimate
    end subroutine radau_advance
 
    !> r(Z) = Z - h (A x I) F(U0 + Z)
