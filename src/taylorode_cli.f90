@@ -111,6 +111,10 @@ contains
             if (.not. allowed("table")) return
             request%full = .true.
             cycle
+         case ("--no-reuse")
+            if (.not. allowed("vdp")) return
+            request%options%reuse_newton_matrix = .false.
+            cycle
          case ("--quick")
             if (.not. allowed("extreme")) return
             request%quick = .true.
@@ -390,6 +394,7 @@ contains
             "  --norm max|rms     error norm (default max)"//nl// &
             "  --controller i|pi|pid  step-size controller (default i)"//nl// &
             "  --h0 H --hmax H    first and largest step (default 1e-2 and none)"//nl// &
+            "  --no-reuse         factor the Newton matrix in every solve (default: keep it across steps)"//nl// &
             "  --history FILE.csv write every attempted step (refuses to overwrite without --force)"//nl// &
             "  --dense N          error on an N-point grid against radau5 at 1e-12 (default 301)"
       case ("table")

@@ -5,9 +5,10 @@
 module taylorode_explicit_taylor
    use taylorode_kinds, only: dp
    use taylorode_status, only: status_type, set_status, status_nonfinite
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use taylorode_problem, only: ode_problem
    use taylorode_scheme, only: scheme_type
+   use taylorode_matrix, only: matrix_type, new_matrix
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
@@ -20,7 +21,7 @@ module taylorode_explicit_taylor
       !> h^2/2 J0 F0, the second-order term
       real(dp), allocatable :: taylor2(:)
       !> Jacobians at U0
-      real(dp), allocatable :: jac_f0(:, :), jac_g0(:, :)
+      class(matrix_type), allocatable :: jac_f0, jac_g0
    contains
       procedure :: advance => explicit_taylor_advance
       procedure :: prepare => explicit_taylor_prepare
@@ -43,13 +44,15 @@ contains
       end if
    end subroutine new_explicit_taylor
 
-   subroutine explicit_taylor_prepare(self, n)
+   subroutine explicit_taylor_prepare(self, problem, n)
       class(explicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
-      if (self%n == n) return
-      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%taylor2, self%jac_f0, self%jac_g0)
-      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%taylor2(n), self%jac_f0(n, n), self%jac_g0(n, n))
-      self%n = n
+      if (.not. self%resize(problem, n)) return
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%taylor2)
+      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%taylor2(n))
+      call new_matrix(self%jac_f0, n, self%kl, self%ku)
+      call new_matrix(self%jac_g0, n, self%kl, self%ku)
    end subroutine explicit_taylor_prepare
 
    subroutine explicit_taylor_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
@@ -74,8 +77,9 @@ contains
 
       call self%eval_jac_f(problem, t, u0, self%jac_f0)
       call self%eval_jac_g(problem, t, u0, self%jac_g0)
-      self%taylor2 = matmul(self%jac_f0, self%rhs0) + matmul(self%jac_g0, self%rhs0)
-      self%taylor2 = (0.5_dp*h*h)*self%taylor2
+      self%taylor2 = 0.0_dp
+      call self%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
+      call self%jac_g0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
       if (self%order == 2) u1 = u1 + self%taylor2
       if (present(delta)) delta = self%taylor2
    end subroutine explicit_taylor_advance

@@ -14,7 +14,7 @@ module taylorode_imex_rk
    use taylorode_status, only: status_type, status_ok
    use taylorode_problem, only: ode_problem
    use taylorode_scheme, only: implicit_scheme_type
-   use taylorode_linalg, only: add_to_diagonal
+   use taylorode_matrix, only: matrix_type, new_matrix
    implicit none
    private
 
@@ -32,7 +32,7 @@ module taylorode_imex_rk
       !> Stage values and f, g at the stages
       real(dp), allocatable :: y1(:), f_y1(:), g_y1(:), f_y2(:), g_y2(:)
       !> Jacobian dg/dU at the current iterate
-      real(dp), allocatable :: jac_g(:, :)
+      class(matrix_type), allocatable :: jac_g
    contains
       procedure :: advance => imex_advance
       procedure :: prepare => imex_prepare
@@ -54,17 +54,17 @@ contains
       self%embedded_order = 1
    end subroutine new_imex_rk21
 
-   subroutine imex_prepare(self, n)
+   !> Work arrays; both stages share the form of their Newton matrix, I - h gamma J_g,
+   !> but each keeps its own.
+   subroutine imex_prepare(self, problem, n)
       class(imex_rk21_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
-      call self%prepare_newton(n)
-      if (self%n == n) return
-      if (allocated(self%known)) then
-         deallocate (self%known, self%y1, self%f_y1, self%g_y1, self%f_y2, self%g_y2, self%jac_g)
-      end if
-      allocate (self%known(n), self%y1(n), self%f_y1(n), self%g_y1(n), self%f_y2(n), self%g_y2(n), &
-         self%jac_g(n, n))
-      self%n = n
+      if (.not. self%resize(problem, n)) return
+      call self%prepare_newton(n, 2, self%kl, self%ku)
+      if (allocated(self%known)) deallocate (self%known, self%y1, self%f_y1, self%g_y1, self%f_y2, self%g_y2)
+      allocate (self%known(n), self%y1(n), self%f_y1(n), self%g_y1(n), self%f_y2(n), self%g_y2(n))
+      call new_matrix(self%jac_g, n, self%kl, self%ku)
    end subroutine imex_prepare
 
    subroutine imex_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
@@ -111,15 +111,16 @@ contains
    end subroutine imex_residual
 
    !> I - h gamma J_g(Y) for stage `system`
-   subroutine imex_matrix(self, problem, system, u, m)
+   subroutine imex_matrix(self, problem, system, u)
       class(imex_rk21_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: system
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: m(:, :)
       call self%eval_jac_g(problem, self%t0 + implicit_nodes(system)*self%h, u, self%jac_g)
-      m = -(self%h*imex_gamma)*self%jac_g
-      call add_to_diagonal(m, 1.0_dp)
+      associate (m => self%systems(system)%matrix)
+         call m%set_scaled(-self%h*imex_gamma, self%jac_g)
+         call m%add_identity(1.0_dp)
+      end associate
    end subroutine imex_matrix
 
 end module taylorode_imex_rk

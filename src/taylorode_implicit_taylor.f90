@@ -10,7 +10,7 @@ module taylorode_implicit_taylor
    use taylorode_status, only: status_type, status_ok
    use taylorode_problem, only: ode_problem
    use taylorode_scheme, only: implicit_scheme_type
-   use taylorode_linalg, only: add_to_diagonal
+   use taylorode_matrix, only: matrix_type, new_matrix
    implicit none
    private
 
@@ -22,10 +22,8 @@ module taylorode_implicit_taylor
       real(dp), allocatable :: u0(:)
       !> f, g and F = f + g at the current iterate
       real(dp), allocatable :: f1(:), g1(:), rhs1(:)
-      !> J(U1) F(U1)
-      real(dp), allocatable :: jac_rhs1(:)
       !> Jacobians at the current iterate (jac1 = J_f + J_g)
-      real(dp), allocatable :: jac_g1(:, :), jac1(:, :)
+      class(matrix_type), allocatable :: jac_g1, jac1
    contains
       procedure :: advance => implicit_taylor_advance
       procedure :: prepare => implicit_taylor_prepare
@@ -50,17 +48,18 @@ contains
       end if
    end subroutine new_implicit_taylor
 
-   subroutine implicit_taylor_prepare(self, n)
+   !> Work arrays; the i-t-2 Newton matrix holds J^2 and gets twice the bandwidths.
+   subroutine implicit_taylor_prepare(self, problem, n)
       class(implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
-      call self%prepare_newton(n)
-      if (self%n == n) return
-      if (allocated(self%u0)) then
-         deallocate (self%u0, self%f1, self%g1, self%rhs1, self%jac_rhs1, self%jac_g1, self%jac1)
-      end if
-      allocate (self%u0(n), self%f1(n), self%g1(n), self%rhs1(n), self%jac_rhs1(n), &
-         self%jac_g1(n, n), self%jac1(n, n))
-      self%n = n
+      if (.not. self%resize(problem, n)) return
+      call self%prepare_newton(n, 2, 2*self%kl, 2*self%ku)
+      call new_matrix(self%systems(1)%matrix, n, self%kl, self%ku)
+      if (allocated(self%u0)) deallocate (self%u0, self%f1, self%g1, self%rhs1)
+      allocate (self%u0(n), self%f1(n), self%g1(n), self%rhs1(n))
+      call new_matrix(self%jac_g1, n, self%kl, self%ku)
+      call new_matrix(self%jac1, n, self%kl, self%ku)
    end subroutine implicit_taylor_prepare
 
    subroutine implicit_taylor_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
@@ -106,26 +105,23 @@ contains
       r = u - self%u0 - self%h*self%rhs1
       if (system == 2) then
          call jacobian_at(self, problem, t1, u)
-         self%jac_rhs1 = matmul(self%jac1, self%rhs1)
-         r = r + (0.5_dp*self%h*self%h)*self%jac_rhs1
+         call self%jac1%multiply_add(0.5_dp*self%h*self%h, self%rhs1, r)
       end if
    end subroutine implicit_taylor_residual
 
    !> I - h J(U) [+ h^2/2 J(U)^2 for order 2], J(U) reused from the residual for order 2.
-   subroutine implicit_taylor_matrix(self, problem, system, u, m)
+   subroutine implicit_taylor_matrix(self, problem, system, u)
       class(implicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: system
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: m(:, :)
 
-      if (system == 2) then
-         m = -self%h*self%jac1 + (0.5_dp*self%h*self%h)*matmul(self%jac1, self%jac1)
-      else
-         call jacobian_at(self, problem, self%t0 + self%h, u)
-         m = -self%h*self%jac1
-      end if
-      call add_to_diagonal(m, 1.0_dp)
+      if (system /= 2) call jacobian_at(self, problem, self%t0 + self%h, u)
+      associate (m => self%systems(system)%matrix)
+         call m%set_scaled(-self%h, self%jac1)
+         if (system == 2) call m%add_product(0.5_dp*self%h*self%h, self%jac1, self%jac1)
+         call m%add_identity(1.0_dp)
+      end associate
    end subroutine implicit_taylor_matrix
 
    !> jac1 = J_f(u) + J_g(u)
@@ -136,7 +132,7 @@ contains
       real(dp), intent(in) :: u(:)
       call self%eval_jac_f(problem, t, u, self%jac1)
       call self%eval_jac_g(problem, t, u, self%jac_g1)
-      self%jac1 = self%jac1 + self%jac_g1
+      call self%jac1%add_scaled(1.0_dp, self%jac_g1)
    end subroutine jacobian_at
 
 end module taylorode_implicit_taylor

@@ -113,11 +113,12 @@ contains
       end if
 
       allocate (u_new(n), delta(n), weights(n), newton_tolerance(n), scratch(n))
-      call scheme%prepare(n)
+      call scheme%prepare(problem, n)
       call scheme%restart()
       select type (scheme)
       class is (implicit_scheme_type)
          scheme%max_newton_iterations = options%max_newton_iterations
+         scheme%reuse_newton_matrix = options%reuse_newton_matrix
       end select
       q = options%q
       if (q == 0.0_dp) q = real(min(scheme%order, scheme%embedded_order) + 1, dp)

@@ -1,14 +1,14 @@
-!> Dense linear algebra through LAPACK: the only module that calls it.
+!> Linear algebra through LAPACK: the only module that calls it.
 !>
-!> Explicit interfaces to dgetrf/dgetrs and assumed-shape wrappers that the
-!> Newton solver uses to factor an iteration matrix once and solve with it
-!> several times.
+!> Explicit interfaces to dgetrf/dgetrs (dense) and dgbtrf/dgbtrs (band) and
+!> assumed-shape wrappers that the Newton solver uses to factor an iteration
+!> matrix once and solve with it several times.
 module taylorode_linalg
    use taylorode_kinds, only: dp
    implicit none
    private
 
-   public :: lu_factor, lu_solve, add_to_diagonal
+   public :: lu_factor, lu_solve, band_lu_factor, band_lu_solve, add_to_diagonal
 
    interface
       pure subroutine dgetrf(m, n, a, lda, ipiv, info)
@@ -27,9 +27,55 @@ module taylorode_linalg
          real(dp), intent(inout) :: b(ldb, *)
          integer, intent(out) :: info
       end subroutine dgetrs
+      pure subroutine dgbtrf(m, n, kl, ku, ab, ldab, ipiv, info)
+         import :: dp
+         integer, intent(in) :: m, n, kl, ku, ldab
+         real(dp), intent(inout) :: ab(ldab, *)
+         integer, intent(out) :: ipiv(*)
+         integer, intent(out) :: info
+      end subroutine dgbtrf
+      pure subroutine dgbtrs(trans, n, kl, ku, nrhs, ab, ldab, ipiv, b, ldb, info)
+         import :: dp
+         character(len=1), intent(in) :: trans
+         integer, intent(in) :: n, kl, ku, nrhs, ldab, ldb
+         real(dp), intent(in) :: ab(ldab, *)
+         integer, intent(in) :: ipiv(*)
+         real(dp), intent(inout) :: b(ldb, *)
+         integer, intent(out) :: info
+      end subroutine dgbtrs
    end interface
 
 contains
+
+   !> Band LU factorization with partial pivoting, in place (LAPACK dgbtrf). The
+   !> matrix is in LAPACK band storage with room for the fill-in: size(ab, 1) =
+   !> 2 kl + ku + 1 and A(i, j) in ab(kl + ku + 1 + i - j, j).
+   pure subroutine band_lu_factor(ab, kl, ku, ipiv, info)
+      !> Band matrix on entry, its LU factors on exit
+      real(dp), contiguous, intent(inout) :: ab(:, :)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: kl, ku
+      !> Pivot indices, size(ab, 2)
+      integer, contiguous, intent(out) :: ipiv(:)
+      !> LAPACK info: 0 success, > 0 singular
+      integer, intent(out) :: info
+      call dgbtrf(size(ab, 2), size(ab, 2), kl, ku, ab, size(ab, 1), ipiv, info)
+   end subroutine band_lu_factor
+
+   !> Solve A x = b with the factors from `band_lu_factor`; b is overwritten by x.
+   pure subroutine band_lu_solve(ab, kl, ku, ipiv, b, info)
+      !> LU factors from `band_lu_factor`
+      real(dp), contiguous, intent(in) :: ab(:, :)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: kl, ku
+      !> Pivot indices from `band_lu_factor`
+      integer, contiguous, intent(in) :: ipiv(:)
+      !> Right-hand side on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: b(:)
+      !> LAPACK info
+      integer, intent(out) :: info
+      call dgbtrs("N", size(ab, 2), kl, ku, 1, ab, size(ab, 1), ipiv, b, size(b), info)
+   end subroutine band_lu_solve
 
    !> LU factorization with partial pivoting, in place (LAPACK dgetrf).
    !> `info > 0` means the matrix is exactly singular.

@@ -53,8 +53,11 @@ module taylorode_options
       integer(i8) :: max_steps = 1000000_i8
       !> Newton iterations allowed per nonlinear system
       integer :: max_newton_iterations = 10
+      !> Keep factored Newton matrices across steps while h changes by at most 20 %
+      !> and Newton contracts fast (0.1 or better); off: one factorization per solve
+      logical :: reuse_newton_matrix = .true.
       !> Newton stops when every increment is below this fraction of its weight w_i
-      real(dp) :: newton_fraction = 1.0e-3_dp
+      real(dp) :: newton_fraction = 1.0e-4_dp
       !> Consecutive failed attempts (Newton failure, NaN/Inf values) before giving up
       integer :: max_failures = 10
       !> advance_scheme, advance_high or advance_low

@@ -21,6 +21,12 @@ module taylorode_problem
       procedure(jacobian_interface), deferred :: jac_f
       !> Jacobian dg/dU
       procedure(jacobian_interface), deferred :: jac_g
+      !> Lower and upper bandwidths of df/dU and dg/dU together (-1: dense, the default)
+      procedure :: bandwidths
+      !> df/dU in LAPACK band storage (default: grouped forward differences of f)
+      procedure :: jac_f_band
+      !> dg/dU in LAPACK band storage (default: grouped forward differences of g)
+      procedure :: jac_g_band
    end type ode_problem
 
    !> Problem whose Jacobians are approximated by forward differences of f and g
@@ -82,6 +88,90 @@ module taylorode_problem
    end interface
 
 contains
+
+   !> Bandwidths of the Jacobians for a system of size n: lower = upper = -1 (dense)
+   !> unless a problem overrides it; a banded problem has J(i, j) = 0 for
+   !> i - j > lower or j - i > upper, and its Newton systems are solved in band storage.
+   subroutine bandwidths(self, n, lower, upper)
+      !> The problem
+      class(ode_problem), intent(in) :: self
+      !> Number of unknowns
+      integer, intent(in) :: n
+      !> Lower and upper bandwidths, -1 for dense
+      integer, intent(out) :: lower, upper
+      lower = -1
+      upper = -1
+   end subroutine bandwidths
+
+   !> df/dU in LAPACK band storage, band(upper + 1 + i - j, j) = df_i/du_j, by
+   !> forward differences on groups of columns lower + upper + 1 apart (one f
+   !> evaluation per group). Banded problems with analytic Jacobians override it.
+   subroutine jac_f_band(self, t, u, band)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Band storage, (lower + upper + 1) x size(u)
+      real(dp), intent(out) :: band(:, :)
+      call band_forward_difference(self, .true., t, u, band)
+   end subroutine jac_f_band
+
+   !> dg/dU in LAPACK band storage (see jac_f_band).
+   subroutine jac_g_band(self, t, u, band)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Band storage, (lower + upper + 1) x size(u)
+      real(dp), intent(out) :: band(:, :)
+      call band_forward_difference(self, .false., t, u, band)
+   end subroutine jac_g_band
+
+   !> Grouped forward differences of f (`of_f`) or g into band storage.
+   subroutine band_forward_difference(self, of_f, t, u, band)
+      class(ode_problem), intent(inout) :: self
+      logical, intent(in) :: of_f
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: band(:, :)
+      real(dp), allocatable :: base(:), shifted(:), probe(:), increment(:)
+      integer :: lower, upper, width, group, i, j, n
+
+      n = size(u)
+      call self%bandwidths(n, lower, upper)
+      width = lower + upper + 1
+      allocate (base(n), shifted(n), probe(n), increment(n))
+      band = 0.0_dp
+      call evaluate(u, base)
+      do group = 1, min(width, n)
+         probe = u
+         do j = group, n, width
+            increment(j) = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
+            probe(j) = u(j) + increment(j)
+            increment(j) = probe(j) - u(j)
+         end do
+         call evaluate(probe, shifted)
+         do j = group, n, width
+            do i = max(1, j - upper), min(n, j + lower)
+               band(upper + 1 + i - j, j) = (shifted(i) - base(i))/increment(j)
+            end do
+         end do
+      end do
+   contains
+      subroutine evaluate(state, value)
+         real(dp), intent(in) :: state(:)
+         real(dp), intent(out) :: value(:)
+         if (of_f) then
+            call self%f(t, state, value)
+         else
+            call self%g(t, state, value)
+         end if
+      end subroutine evaluate
+   end subroutine band_forward_difference
 
    !> Forward-difference Jacobian of f.
    subroutine fd_jac_f(self, t, u, jac)

@@ -21,7 +21,7 @@ module taylorode_radau
    use taylorode_status, only: status_type, set_status, status_ok, status_singular_matrix
    use taylorode_problem, only: ode_problem
    use taylorode_scheme, only: implicit_scheme_type, default_newton_tolerance
-   use taylorode_linalg, only: add_to_diagonal, lu_factor, lu_solve
+   use taylorode_matrix, only: dense_matrix_type, new_matrix
    implicit none
    private
 
@@ -51,12 +51,11 @@ module taylorode_radau
       !> Stage state, F at each stage, F(t0, U0) and the error estimate
       real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:), rhs0(:), estimate(:)
       !> Jacobian J = J_f + J_g used by the current Newton matrix and error estimate
-      real(dp), allocatable :: jac(:, :), jac_work(:, :)
+      type(dense_matrix_type) :: jac, jac_work
       !> Jacobian at one stage, for the exact Newton matrix of a rebuild
-      real(dp), allocatable :: jac_stage(:, :)
+      type(dense_matrix_type) :: jac_stage
       !> I - h gamma0 J and its pivots, for the error estimate
-      real(dp), allocatable :: error_matrix(:, :)
-      integer, allocatable :: error_pivots(:)
+      type(dense_matrix_type) :: error_matrix
       !> Whether `jac` may serve the next step
       logical :: jacobian_valid = .false.
       !> Whether the Newton matrix of this step has been built
@@ -92,28 +91,39 @@ contains
       r = (1.0_dp + 2.0_dp*z/5.0_dp + z**2/20.0_dp)/(1.0_dp - 3.0_dp*z/5.0_dp + 3.0_dp*z**2/20.0_dp - z**3/60.0_dp)
    end function radau5_stability
 
-   !> Forget the kept Jacobian and the previous step (new problem or integration).
+   !> Forget the kept Jacobian, the factored matrix and the previous step (new problem
+   !> or integration).
    subroutine radau_restart(self)
       class(radau5_type), intent(inout) :: self
+      self%systems%factored = .false.
       self%jacobian_valid = .false.
       self%started = .false.
    end subroutine radau_restart
 
-   subroutine radau_prepare(self, n)
+   !> Work arrays; radau5 always works with dense matrices (3n x 3n Newton system).
+   subroutine radau_prepare(self, problem, n)
       class(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
-      call self%prepare_newton(3*n)
-      if (self%n == n) return
+      if (.not. self%resize(problem, n)) return
+      call self%prepare_newton(3*n, 1, -1, -1)
       if (allocated(self%u0)) then
-         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%rhs0, self%estimate, self%jac, &
-            self%jac_work, self%jac_stage, &
-            self%error_matrix, self%error_pivots)
+         deallocate (self%u0, self%increments, self%stage, self%stage_rhs, self%scratch, self%rhs0, self%estimate)
       end if
       allocate (self%u0(n), self%increments(3*n), self%stage(n), self%stage_rhs(n, 3), self%scratch(n), &
-         self%rhs0(n), self%estimate(n), self%jac(n, n), &
-         self%jac_work(n, n), self%jac_stage(n, n), self%error_matrix(n, n), self%error_pivots(n))
-      self%n = n
+         self%rhs0(n), self%estimate(n))
+      call new_dense(self%jac)
+      call new_dense(self%jac_work)
+      call new_dense(self%jac_stage)
+      call new_dense(self%error_matrix)
       call self%restart()
+   contains
+      subroutine new_dense(matrix)
+         type(dense_matrix_type), intent(out) :: matrix
+         matrix%n = n
+         allocate (matrix%a(n, n), matrix%pivots(n))
+         matrix%a = 0.0_dp
+      end subroutine new_dense
    end subroutine radau_prepare
 
    subroutine radau_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
@@ -166,15 +176,15 @@ contains
       do s = 1, 3
          self%estimate = self%estimate + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
       end do
-      self%error_matrix = -(h*gamma0)*self%jac
-      call add_to_diagonal(self%error_matrix, 1.0_dp)
-      call lu_factor(self%error_matrix, self%error_pivots, info)
+      call self%error_matrix%set_scaled(-h*gamma0, self%jac)
+      call self%error_matrix%add_identity(1.0_dp)
+      call self%error_matrix%factor(info)
       self%counters%lu_factorizations = self%counters%lu_factorizations + 1
       if (info /= 0) then
          call set_status(stat, status_singular_matrix, "radau5: the error estimate matrix is singular")
          return
       end if
-      call lu_solve(self%error_matrix, self%error_pivots, self%estimate, info)
+      call self%error_matrix%solve(self%estimate, info)
       self%counters%linear_solves = self%counters%linear_solves + 1
 
       if (retry) then
@@ -187,7 +197,7 @@ contains
          do s = 1, 3
             self%estimate = self%estimate + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
          end do
-         call lu_solve(self%error_matrix, self%error_pivots, self%estimate, info)
+         call self%error_matrix%solve(self%estimate, info)
          self%counters%linear_solves = self%counters%linear_solves + 1
       end if
       delta = self%estimate
@@ -224,40 +234,42 @@ contains
    !> previous step when Newton converged fast there): this J also serves the error
    !> estimate. A rebuild within the step (poor contraction) forms the exact
    !> derivative, with J(Y_j) at each stage in block column j.
-   subroutine radau_matrix(self, problem, system, u, m)
+   subroutine radau_matrix(self, problem, system, u)
       class(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: system
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: m(:, :)
       integer :: n, s, j, i
 
       n = self%n
       if (.not. self%matrix_built .and. .not. self%jacobian_valid) then
          call jacobian_at(self%t0, self%u0, self%jac)
       end if
-      do j = 1, 3
-         if (self%matrix_built) then
-            self%stage = self%u0 + u((j - 1)*n + 1:j*n)
-            call jacobian_at(self%t0 + radau_c(j)*self%h, self%stage, self%jac_stage)
-         else
-            self%jac_stage = self%jac
-         end if
-         do s = 1, 3
-            m((s - 1)*n + 1:s*n, (j - 1)*n + 1:j*n) = -(self%h*radau_a(s, j))*self%jac_stage
+      select type (m => self%systems(system)%matrix)
+      type is (dense_matrix_type)
+         do j = 1, 3
+            if (self%matrix_built) then
+               self%stage = self%u0 + u((j - 1)*n + 1:j*n)
+               call jacobian_at(self%t0 + radau_c(j)*self%h, self%stage, self%jac_stage)
+            else
+               self%jac_stage%a = self%jac%a
+            end if
+            do s = 1, 3
+               m%a((s - 1)*n + 1:s*n, (j - 1)*n + 1:j*n) = -(self%h*radau_a(s, j))*self%jac_stage%a
+            end do
          end do
-      end do
+         do i = 1, 3*n
+            m%a(i, i) = m%a(i, i) + 1.0_dp
+         end do
+      end select
       self%matrix_built = .true.
-      do i = 1, 3*n
-         m(i, i) = m(i, i) + 1.0_dp
-      end do
    contains
       subroutine jacobian_at(t, state, jac)
          real(dp), intent(in) :: t, state(:)
-         real(dp), intent(out) :: jac(:, :)
+         type(dense_matrix_type), intent(inout) :: jac
          call self%eval_jac_f(problem, t, state, jac)
          call self%eval_jac_g(problem, t, state, self%jac_work)
-         jac = jac + self%jac_work
+         jac%a = jac%a + self%jac_work%a
       end subroutine jacobian_at
    end subroutine radau_matrix
 

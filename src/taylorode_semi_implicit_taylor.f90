@@ -12,7 +12,7 @@ module taylorode_semi_implicit_taylor
    use taylorode_status, only: status_type, status_ok
    use taylorode_problem, only: ode_problem
    use taylorode_scheme, only: implicit_scheme_type
-   use taylorode_linalg, only: add_to_diagonal
+   use taylorode_matrix, only: matrix_type, new_matrix
    implicit none
    private
 
@@ -31,12 +31,12 @@ module taylorode_semi_implicit_taylor
       !> Values at U0: f, g, F = f + g
       real(dp), allocatable :: f0(:), g0(:), rhs0(:)
       !> Jacobians at U0 (jac0 = J_f0 + J_g0, used by si-t-2-paper)
-      real(dp), allocatable :: jac_f0(:, :), jac_g0(:, :), jac0(:, :)
+      class(matrix_type), allocatable :: jac_f0, jac_g0, jac0
       !> Known part of each member's update, one column per member
       real(dp), allocatable :: known(:, :)
       !> Values at the current Newton iterate
       real(dp), allocatable :: f1(:), g1(:), work(:)
-      real(dp), allocatable :: jac_f1(:, :), jac_g1(:, :)
+      class(matrix_type), allocatable :: jac_f1, jac_g1
    contains
       procedure :: advance => semi_implicit_advance
       procedure :: prepare => semi_implicit_prepare
@@ -73,19 +73,22 @@ contains
       end select
    end subroutine new_semi_implicit_taylor
 
-   subroutine semi_implicit_prepare(self, n)
+   !> Work arrays; the Newton matrices of the second-order members hold products of
+   !> Jacobians and get twice the problem's bandwidths.
+   subroutine semi_implicit_prepare(self, problem, n)
       class(semi_implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
-      call self%prepare_newton(n)
-      if (self%n == n) return
-      if (allocated(self%f0)) then
-         deallocate (self%f0, self%g0, self%rhs0, self%jac_f0, self%jac_g0, self%jac0, self%known, &
-            self%f1, self%g1, self%work, self%jac_f1, self%jac_g1)
-      end if
-      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%jac_f0(n, n), self%jac_g0(n, n), &
-         self%jac0(n, n), self%known(n, 3), self%f1(n), self%g1(n), self%work(n), &
-         self%jac_f1(n, n), self%jac_g1(n, n))
-      self%n = n
+      if (.not. self%resize(problem, n)) return
+      call self%prepare_newton(n, 3, 2*self%kl, 2*self%ku)
+      call new_matrix(self%systems(si_t_1)%matrix, n, self%kl, self%ku)
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%known, self%f1, self%g1, self%work)
+      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%known(n, 3), self%f1(n), self%g1(n), self%work(n))
+      call new_matrix(self%jac_f0, n, self%kl, self%ku)
+      call new_matrix(self%jac_g0, n, self%kl, self%ku)
+      call new_matrix(self%jac0, n, self%kl, self%ku)
+      call new_matrix(self%jac_f1, n, self%kl, self%ku)
+      call new_matrix(self%jac_g1, n, self%kl, self%ku)
    end subroutine semi_implicit_prepare
 
    subroutine semi_implicit_advance(self, problem, t, h, u0, u1, stat, delta, newton_tolerance)
@@ -114,11 +117,14 @@ contains
       if (needed(si_t_2)) then
          call self%eval_g(problem, t, u0, self%g0)
          self%rhs0 = self%f0 + self%g0
-         self%known(:, si_t_2) = u0 + h*self%f0 + (0.5_dp*h*h)*matmul(self%jac_f0, self%rhs0)
+         self%known(:, si_t_2) = u0 + h*self%f0
+         call self%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, self%known(:, si_t_2))
       end if
       if (needed(si_t_2_paper)) then
-         self%jac0 = self%jac_f0 + self%jac_g0
-         self%known(:, si_t_2_paper) = u0 + h*self%f0 + (0.5_dp*h*h)*matmul(self%jac0, self%f0)
+         call self%jac0%set_scaled(1.0_dp, self%jac_f0)
+         call self%jac0%add_scaled(1.0_dp, self%jac_g0)
+         self%known(:, si_t_2_paper) = u0 + h*self%f0
+         call self%jac0%multiply_add(0.5_dp*h*h, self%f0, self%known(:, si_t_2_paper))
       end if
 
       u1 = u0
@@ -152,35 +158,35 @@ contains
       case (si_t_2)
          call self%eval_f(problem, t1, u, self%f1)
          self%work = self%f1 + self%g1
-         r = r + half_h2*matmul(self%jac_g0, self%work)
+         call self%jac_g0%multiply_add(half_h2, self%work, r)
       case (si_t_2_paper)
-         r = r + half_h2*matmul(self%jac0, self%g1)
+         call self%jac0%multiply_add(half_h2, self%g1, r)
       end select
    end subroutine semi_implicit_residual
 
-   subroutine semi_implicit_matrix(self, problem, system, u, m)
+   subroutine semi_implicit_matrix(self, problem, system, u)
       class(semi_implicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: system
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: m(:, :)
 
       real(dp) :: t1, half_h2
 
       t1 = self%t0 + self%h
       half_h2 = 0.5_dp*self%h*self%h
       call self%eval_jac_g(problem, t1, u, self%jac_g1)
-      select case (system)
-      case (si_t_1)
-         m = -self%h*self%jac_g1
-      case (si_t_2)
-         call self%eval_jac_f(problem, t1, u, self%jac_f1)
-         self%jac_f1 = self%jac_f1 + self%jac_g1
-         m = -self%h*self%jac_g1 + half_h2*matmul(self%jac_g0, self%jac_f1)
-      case (si_t_2_paper)
-         m = -self%h*self%jac_g1 + half_h2*matmul(self%jac0, self%jac_g1)
-      end select
-      call add_to_diagonal(m, 1.0_dp)
+      associate (m => self%systems(system)%matrix)
+         call m%set_scaled(-self%h, self%jac_g1)
+         select case (system)
+         case (si_t_2)
+            call self%eval_jac_f(problem, t1, u, self%jac_f1)
+            call self%jac_f1%add_scaled(1.0_dp, self%jac_g1)
+            call m%add_product(half_h2, self%jac_g0, self%jac_f1)
+         case (si_t_2_paper)
+            call m%add_product(half_h2, self%jac0, self%jac_g1)
+         end select
+         call m%add_identity(1.0_dp)
+      end associate
    end subroutine semi_implicit_matrix
 
 end module taylorode_semi_implicit_taylor
