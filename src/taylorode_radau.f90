@@ -239,7 +239,7 @@ contains
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: system
       real(dp), intent(in) :: u(:)
-      integer :: n, s, j, i
+      integer :: n, s, j, i, column
 
       n = self%n
       if (.not. self%matrix_built .and. .not. self%jacobian_valid) then
@@ -254,8 +254,13 @@ contains
             else
                self%jac_stage%a = self%jac%a
             end if
+            ! explicit loops: an array assignment here would copy through a temporary
             do s = 1, 3
-               m%a((s - 1)*n + 1:s*n, (j - 1)*n + 1:j*n) = -(self%h*radau_a(s, j))*self%jac_stage%a
+               do column = 1, n
+                  do i = 1, n
+                     m%a((s - 1)*n + i, (j - 1)*n + column) = -(self%h*radau_a(s, j))*self%jac_stage%a(i, column)
+                  end do
+               end do
             end do
          end do
          do i = 1, 3*n
