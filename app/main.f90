@@ -7,6 +7,7 @@ program taylorode_app
    use taylorode_report, only: report_type
    use taylorode_experiments, only: run_vdp, run_table, run_sweep
    use taylorode_checks, only: run_stability, run_extreme
+   use taylorode_bench, only: run_bench
    implicit none
 
    type(cli_request_type) :: request
@@ -43,9 +44,8 @@ program taylorode_app
       call run_stability(request, report, stat)
    case ("extreme")
       call run_extreme(request, report, stat, progress)
-   case default
-      write (error_unit, '(a)') "taylorode: "//request%command//" is not available in this build"
-      error stop 2
+   case ("bench")
+      call run_bench(request, report, stat, progress)
    end select
 
    do k = 1, report%line_count

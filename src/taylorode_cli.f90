@@ -204,7 +204,7 @@ contains
                call fail("--dense needs at least 2 points, got "//value); return
             end if
          case ("--budget")
-            if (.not. (allowed("table", "sweep"))) return
+            if (.not. (allowed("table", "sweep", "bench"))) return
             if (.not. read_integer8(arg, value, request%budget)) return
             if (request%budget < 1) then
                call fail("--budget must be at least 1, got "//value); return
@@ -257,11 +257,12 @@ contains
       end subroutine fail
 
       !> The current option belongs to one of these commands.
-      logical function allowed(command, other)
+      logical function allowed(command, other, third)
          character(len=*), intent(in) :: command
-         character(len=*), intent(in), optional :: other
+         character(len=*), intent(in), optional :: other, third
          allowed = request%command == command
          if (present(other)) allowed = allowed .or. request%command == other
+         if (present(third)) allowed = allowed .or. request%command == third
          if (.not. allowed) call fail("option "//arg//" does not apply to "//request%command//" (see --help)")
       end function allowed
 
@@ -427,6 +428,7 @@ contains
          text = "taylorode bench: time per step (run with --profile release)"//nl// &
             "  Van der Pol mu = 1000 with every scheme (paper settings) and the Brusselator with"//nl// &
             "  N = 100 ... --max-points (default 100000) on the banded path"//nl// &
+            "  --budget N    step budget of the Van der Pol runs (default 2000000)"//nl// &
             "  --repeats N   timing runs for the median (default 5)"//nl// &
             "  --out DIR     also write DIR/bench.csv"
       case default

@@ -137,6 +137,7 @@ contains
       text = trim(adjustl(buffer))
       if (text(1:1) == ".") text = "0"//text
       if (text(1:min(2, len(text))) == "-.") text = "-0"//text(2:)
+      if (decimals == 0 .and. text(len(text):) == ".") text = text(:len(text) - 1)
    end function format_fixed
 
    !> A count with thousands separators (e.g. 125,748).

@@ -75,7 +75,8 @@ module taylorode_test_set
    !> The 1D Brusselator by the method of lines (Hairer & Wanner II, IV.10, BRUSS):
    !> N interior points, alpha = 1/50, Dirichlet data u = 1, v = 3, u(x, 0) = 1 + sin(2 pi x),
    !> v(x, 0) = 3, t in [0, 10]. Unknowns interleaved (u1, v1, u2, v2, ...);
-   !> f = the reaction, g = the diffusion (with the boundary data).
+   !> f = the reaction, g = the diffusion (with the boundary data). Both Jacobians
+   !> have bandwidths 2 and 2: the Newton systems are solved in band storage.
    type, extends(test_problem_type) :: brusselator_type
       !> Interior grid points
       integer :: points = 100
@@ -86,6 +87,9 @@ module taylorode_test_set
       procedure :: g => brusselator_g
       procedure :: jac_f => brusselator_jac_f
       procedure :: jac_g => brusselator_jac_g
+      procedure :: bandwidths => brusselator_bandwidths
+      procedure :: jac_f_band => brusselator_jac_f_band
+      procedure :: jac_g_band => brusselator_jac_g_band
    end type brusselator_type
 
    !> Prothero-Robinson: y' = L (y - sin t) + cos t, y(0) = 0, exact solution sin t
@@ -484,6 +488,48 @@ contains
          if (k <= size(u) - 2) jac(k, k + 2) = c
       end do
    end subroutine brusselator_jac_g
+
+   !> Lower and upper bandwidths 2 (the diffusion couples points i - 1 and i + 1).
+   subroutine brusselator_bandwidths(self, n, lower, upper)
+      class(brusselator_type), intent(in) :: self
+      integer, intent(in) :: n
+      integer, intent(out) :: lower, upper
+      lower = 2
+      upper = 2
+   end subroutine brusselator_bandwidths
+
+   !> df/dU in band storage: the 2x2 reaction block of each grid point.
+   subroutine brusselator_jac_f_band(self, t, u, band)
+      class(brusselator_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: band(:, :)
+      integer :: i
+      band = 0.0_dp
+      do i = 1, self%points
+         band(3, 2*i - 1) = 2.0_dp*u(2*i - 1)*u(2*i) - 4.0_dp
+         band(4, 2*i - 1) = 3.0_dp - 2.0_dp*u(2*i - 1)*u(2*i)
+         band(2, 2*i) = u(2*i - 1)**2
+         band(3, 2*i) = -u(2*i - 1)**2
+      end do
+   end subroutine brusselator_jac_f_band
+
+   !> dg/dU in band storage: the second difference of each species (offsets -2, 0, +2).
+   subroutine brusselator_jac_g_band(self, t, u, band)
+      class(brusselator_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: band(:, :)
+      real(dp) :: c
+      integer :: j
+      c = self%alpha*real(self%points + 1, dp)**2
+      band = 0.0_dp
+      do j = 1, size(u)
+         band(3, j) = -2.0_dp*c
+         if (j > 2) band(1, j) = c
+         if (j <= size(u) - 2) band(5, j) = c
+      end do
+   end subroutine brusselator_jac_g_band
 
    !> Prothero-Robinson with stiffness L (default -1e6) over [0, 10]; exact solution sin t.
    pure function new_prothero_robinson(l) result(self)

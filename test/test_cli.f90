@@ -7,6 +7,7 @@ module test_cli
    use taylorode_report, only: report_type, format_count, format_real, format_fixed
    use taylorode_experiments, only: run_vdp, run_table, run_sweep
    use taylorode_checks, only: run_stability, run_extreme
+   use taylorode_bench, only: run_bench
    implicit none
    private
 
@@ -27,7 +28,8 @@ contains
          new_unittest("table-report", test_table_report), &
          new_unittest("sweep-report", test_sweep_report), &
          new_unittest("stability-report", test_stability_report), &
-         new_unittest("extreme-report", test_extreme_report) &
+         new_unittest("extreme-report", test_extreme_report), &
+         new_unittest("bench-report", test_bench_report) &
          ]
    end subroutine collect_cli
 
@@ -167,6 +169,8 @@ contains
       call check(error, format_fixed(0.0881_dp, 3), "0.088")
       if (allocated(error)) return
       call check(error, format_real(1.0e4_dp, 1), "1E+04")
+      if (allocated(error)) return
+      call check(error, format_fixed(626.6_dp, 0), "627")
    end subroutine test_formats
 
    subroutine test_vdp_report(error)
@@ -283,6 +287,31 @@ contains
       end do
       call check(error, has_line(report, "ok   i-t-2 vdp mu=1E+04"), "Van der Pol line")
    end subroutine test_extreme_report
+
+   !> The benchmark on a small budget: one row per scheme and per Brusselator size,
+   !> the reuse comparison and the LAPACK share.
+   subroutine test_bench_report(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(cli_request_type) :: request
+      type(status_type) :: stat
+      type(report_type) :: report
+      integer :: k
+      call parse_command_line([character(len=12) :: "bench", "--budget", "20000", "--max-points", "1000", &
+         "--repeats", "1"], request, stat)
+      call check(error, stat%code, status_ok, "bench options")
+      if (allocated(error)) return
+      call run_bench(request, report, stat)
+      call check(error, stat%code, status_ok, "bench run")
+      if (allocated(error)) return
+      call check(error, report%tables(1)%count, 9 + 2, "nine schemes and two Brusselator sizes")
+      if (allocated(error)) return
+      do k = 1, report%tables(1)%count
+         call check(error, count_commas(report%tables(1)%rows(k)%text), 11, "CSV columns")
+         if (allocated(error)) return
+      end do
+      call check(error, has_line(report, "reuse off:") .and. has_line(report, "% of the run") .and. &
+         has_line(report, "budget reached"), "bench sections")
+   end subroutine test_bench_report
 
    !> Field separators: commas outside double quotes.
    integer function count_separators(text)

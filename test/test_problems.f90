@@ -5,7 +5,8 @@ module test_problems
    use taylorode, only: dp, ode_problem, ode_problem_fd, van_der_pol_type, new_van_der_pol, &
       vdp_split_paper, vdp_split_stiff, linear_test_type, scheme_type, status_type, new_scheme, &
       integrate_fixed, status_ok, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, &
-      new_test_problem, test_problem_names, test_problem_count
+      new_test_problem, test_problem_names, test_problem_count, brusselator_type, new_brusselator, &
+      integrate, integrator_options_type, integration_stats_type
    implicit none
    private
 
@@ -14,6 +15,24 @@ module test_problems
    !> Forward differences with increment sqrt(eps) |u| have error ~ sqrt(eps) times
    !> the second derivatives; relative to the Jacobian's size 1e-6 leaves a margin of ~100.
    real(dp), parameter :: fd_tolerance = 1.0e-6_dp
+
+   !> The Brusselator on the dense path: the same problem without its bandwidths
+   type, extends(brusselator_type) :: dense_brusselator
+   contains
+      procedure :: bandwidths => dense_bandwidths
+   end type dense_brusselator
+
+   !> The Brusselator with bandwidths but no analytic band Jacobians: the band
+   !> Jacobians come from the library's grouped finite differences
+   type, extends(ode_problem) :: differenced_brusselator
+      type(brusselator_type) :: model
+   contains
+      procedure :: f => differenced_f
+      procedure :: g => differenced_g
+      procedure :: jac_f => differenced_jac_f
+      procedure :: jac_g => differenced_jac_g
+      procedure :: bandwidths => differenced_bandwidths
+   end type differenced_brusselator
 
    !> Van der Pol written as a user without Jacobians would: f and g only
    type, extends(ode_problem_fd) :: vdp_without_jacobians
@@ -35,7 +54,9 @@ contains
          new_unittest("problem-without-jacobians", test_problem_without_jacobians), &
          new_unittest("van-der-pol-initial-states", test_initial_states), &
          new_unittest("test-set-jacobians", test_test_set_jacobians), &
-         new_unittest("unknown-problem", test_unknown_problem) &
+         new_unittest("unknown-problem", test_unknown_problem), &
+         new_unittest("band-jacobians", test_band_jacobians), &
+         new_unittest("banded-path-equals-dense", test_banded_path) &
          ]
    end subroutine collect_problems
 
@@ -191,6 +212,130 @@ contains
          end if
       end subroutine evaluate
    end subroutine compare_central
+
+   !> Band Jacobians of the Brusselator (analytic, and the library's grouped
+   !> differences) equal the dense analytic ones inside the band and the band holds
+   !> every nonzero.
+   subroutine test_band_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(brusselator_type) :: analytic
+      type(differenced_brusselator) :: differenced
+      real(dp), allocatable :: dense(:, :), band(:, :), state(:)
+      integer :: n, i, j, lower, upper, which
+
+      analytic = new_brusselator(7)
+      differenced%model = analytic
+      n = size(analytic%u0)
+      state = analytic%u0 + 0.1_dp*[(sin(0.7_dp*i), i=1, n)]
+      call analytic%bandwidths(n, lower, upper)
+      allocate (dense(n, n), band(lower + upper + 1, n))
+      do which = 1, 4
+         select case (which)
+         case (1)
+            call analytic%jac_f(0.0_dp, state, dense)
+            call analytic%jac_f_band(0.0_dp, state, band)
+         case (2)
+            call analytic%jac_g(0.0_dp, state, dense)
+            call analytic%jac_g_band(0.0_dp, state, band)
+         case (3)
+            call analytic%jac_f(0.0_dp, state, dense)
+            call differenced%jac_f_band(0.0_dp, state, band)
+         case (4)
+            call analytic%jac_g(0.0_dp, state, dense)
+            call differenced%jac_g_band(0.0_dp, state, band)
+         end select
+         do j = 1, n
+            do i = 1, n
+               if (i - j > lower .or. j - i > upper) then
+                  call check(error, dense(i, j) == 0.0_dp, "nonzero outside the declared band")
+               else
+                  ! exact for the analytic band, 1e-6 relative for the differences
+                  call check(error, abs(band(upper + 1 + i - j, j) - dense(i, j)) <= &
+                     1.0e-6_dp*max(1.0_dp, abs(dense(i, j))), "band entry differs, case "//char(48 + which))
+               end if
+               if (allocated(error)) return
+            end do
+         end do
+      end do
+   end subroutine test_band_jacobians
+
+   !> The banded Newton path and the dense one give the same integration.
+   subroutine test_banded_path(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(4) = [character(len=9) :: "si-t-2", "i-t-2", "imex-rk21", "ex-t-2"]
+      type(brusselator_type) :: banded
+      type(dense_brusselator) :: dense
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats_band, stats_dense
+      type(status_type) :: stat
+      real(dp), allocatable :: u_band(:), u_dense(:)
+      integer :: k
+
+      banded = new_brusselator(10)
+      dense%brusselator_type = banded
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_band = banded%u0
+         call integrate(banded, scheme, 0.0_dp, 1.0_dp, u_band, options, stats_band, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//" banded")
+         if (allocated(error)) return
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_dense = dense%u0
+         call integrate(dense, scheme, 0.0_dp, 1.0_dp, u_dense, options, stats_dense, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//" dense")
+         if (allocated(error)) return
+         ! the same arithmetic up to the order of summation in the LU factorizations
+         call check(error, maxval(abs(u_band - u_dense)) < 1.0e-9_dp, trim(names(k))//": banded and dense differ")
+         if (allocated(error)) return
+         call check(error, stats_band%accepted_steps, stats_dense%accepted_steps, trim(names(k))//": step counts")
+         if (allocated(error)) return
+      end do
+   end subroutine test_banded_path
+
+   subroutine dense_bandwidths(self, n, lower, upper)
+      class(dense_brusselator), intent(in) :: self
+      integer, intent(in) :: n
+      integer, intent(out) :: lower, upper
+      lower = -1
+      upper = -1
+   end subroutine dense_bandwidths
+
+   subroutine differenced_f(self, t, u, dudt)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call self%model%f(t, u, dudt)
+   end subroutine differenced_f
+
+   subroutine differenced_g(self, t, u, dudt)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call self%model%g(t, u, dudt)
+   end subroutine differenced_g
+
+   subroutine differenced_jac_f(self, t, u, jac)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      call self%model%jac_f(t, u, jac)
+   end subroutine differenced_jac_f
+
+   subroutine differenced_jac_g(self, t, u, jac)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      call self%model%jac_g(t, u, jac)
+   end subroutine differenced_jac_g
+
+   subroutine differenced_bandwidths(self, n, lower, upper)
+      class(differenced_brusselator), intent(in) :: self
+      integer, intent(in) :: n
+      integer, intent(out) :: lower, upper
+      call self%model%bandwidths(n, lower, upper)
+   end subroutine differenced_bandwidths
 
    subroutine test_unknown_problem(error)
       type(error_type), allocatable, intent(out) :: error
