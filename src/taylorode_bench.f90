@@ -10,7 +10,8 @@ module taylorode_bench
    use taylorode_test_set, only: brusselator_type, new_brusselator
    use taylorode_linalg, only: lu_factor, lu_solve
    use taylorode_cli, only: cli_request_type
-   use taylorode_report, only: report_type, format_real, format_count, format_fixed, pad, choose
+   use taylorode_report, only: report_type
+   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, pad, choose
    use taylorode_experiments, only: progress_interface, timed_run, timed_run_type
    implicit none
    private
@@ -40,7 +41,7 @@ contains
       table = report%new_table("bench.csv", "problem,scheme,unknowns,accepted,seconds,ns_per_step,"// &
          "f_evaluations,g_evaluations,jacobian_evaluations,lu_factorizations,status,peak_memory_kib")
       call report%add_line("Van der Pol mu = 1000, paper settings (I controller, atol 1e-5, rtol 0), t in [0, 3000];"// &
-         " CPU by cpu_time(), median of "//itoa(request%repeats)//" runs; budget "//format_count(request%budget)// &
+         " CPU by cpu_time(), median of "//format_integer(request%repeats)//" runs; budget "//format_count(request%budget)// &
          " attempts")
       call report%add_line(pad("scheme", -13)//pad("accepted", 11)//pad("seconds", 9)//pad("ns/step", 9)// &
          pad("f evals", 11)//pad("g evals", 11)//pad("Jac evals", 11)//pad("LU", 9)//"  note")
@@ -93,12 +94,12 @@ contains
          if (points > request%max_points) exit
          brusselator = new_brusselator(points)
          options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
-         if (present(progress)) call progress("bench: Brusselator N = "//itoa(points))
+         if (present(progress)) call progress("bench: Brusselator N = "//format_integer(points))
          call timed_run(brusselator, "si-t-2", options, 0.0_dp, brusselator_t_end, brusselator%u0, &
             merge(request%repeats, 1, points <= 1000), run)
          per_step = 1.0e9_dp*run%cpu_median/real(max(run%stats%accepted_steps, 1_i8), dp)
          if (points == 1000) base_per_unknown = per_step/real(2*points, dp)
-         call report%add_line(pad(itoa(points), 8)//pad(itoa(2*points), 10)// &
+         call report%add_line(pad(format_integer(points), 8)//pad(format_integer(2*points), 10)// &
             pad(format_count(run%stats%accepted_steps), 10)//pad(format_fixed(run%cpu_median, 3), 10)// &
             pad(format_fixed(per_step/1000.0_dp, 1), 11)//pad(format_fixed(per_step/real(2*points, dp), 1), 17)// &
             pad(choose(base_per_unknown > 0.0_dp, format_fixed(per_step/real(2*points, dp)/ &
@@ -115,13 +116,13 @@ contains
          integer, intent(in) :: unknowns
          type(timed_run_type), intent(in) :: run
          real(dp), intent(in) :: per_step
-         call report%tables(table)%add_row(problem//","//scheme//","//itoa(unknowns)//","// &
-            itoa8(run%stats%accepted_steps)//","//format_real(run%cpu_median, 4)//","// &
-            format_real(per_step, 4)//","//itoa8(run%stats%work%f_evaluations)//","// &
-            itoa8(run%stats%work%g_evaluations)//","// &
-            itoa8(run%stats%work%jac_f_evaluations + run%stats%work%jac_g_evaluations)//","// &
-            itoa8(run%stats%work%lu_factorizations)//","//choose(run%stat%code == status_ok, "ok", "stopped")// &
-            ","//itoa8(peak_memory_kib()))
+         call report%tables(table)%add_row(problem//","//scheme//","//format_integer(unknowns)//","// &
+            format_integer(run%stats%accepted_steps)//","//format_real(run%cpu_median, 4)//","// &
+            format_real(per_step, 4)//","//format_integer(run%stats%work%f_evaluations)//","// &
+            format_integer(run%stats%work%g_evaluations)//","// &
+            format_integer(run%stats%work%jac_f_evaluations + run%stats%work%jac_g_evaluations)//","// &
+            format_integer(run%stats%work%lu_factorizations)//","//choose(run%stat%code == status_ok, "ok", "stopped")// &
+            ","//format_integer(peak_memory_kib()))
       end subroutine add_csv_row
 
    end subroutine run_bench
@@ -172,21 +173,5 @@ contains
       end do
       close (unit)
    end function peak_memory_kib
-
-   pure function itoa(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=16) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function itoa
-
-   pure function itoa8(i) result(text)
-      integer(i8), intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=24) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function itoa8
 
 end module taylorode_bench

@@ -12,7 +12,8 @@ module taylorode_checks
    use taylorode_van_der_pol, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_ic_unprepared
    use taylorode_test_set, only: robertson_type, new_robertson, hires_type, new_hires
    use taylorode_cli, only: cli_request_type
-   use taylorode_report, only: report_type, format_real, format_count, format_fixed, pad, choose
+   use taylorode_report, only: report_type
+   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, pad, choose
    use taylorode_experiments, only: progress_interface, reference_run
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
    implicit none
@@ -81,15 +82,15 @@ contains
                pairs = pairs + 1
             end do
          end do
-         call report%add_line("  "//pad(name, -13)//pad(itoa(pairs), 4)//" pairs, largest deviation "// &
+         call report%add_line("  "//pad(name, -13)//pad(format_integer(pairs), 4)//" pairs, largest deviation "// &
             format_real(worst, 2)//" (relative to max(|R|, 1))")
-         call report%tables(check_table)%add_row(name//","//itoa(pairs)//","//format_real(worst, 3))
+         call report%tables(check_table)%add_row(name//","//format_integer(pairs)//","//format_real(worst, 3))
          if (worst > 1.0e-12_dp) report%passed = .false.
       end do
 
       call report%add_line("")
       call report%add_line("(2) S1 = {z : sup over Re w <= 0 of |R(z, w)| <= 1} on [-3, 1] x [-2, 2], "// &
-         itoa(request%grid)//" x "//itoa(request%grid)//" points; axis crossings by bisection")
+         format_integer(request%grid)//" x "//format_integer(request%grid)//" points; axis crossings by bisection")
       do k = 1, scheme_count
          name = trim(scheme_names(k))
          do i = 1, request%grid
@@ -349,7 +350,7 @@ contains
          call report%add_line(pad(merge("ok  ", "FAIL", ok), -5)//name//" "//label//": "//steps//figure// &
             choose(run_stat%code == status_ok, "", ", "//status_text))
          call report%tables(table)%add_row(label//","//name//","//choose(len(steps) > 0, &
-            itoa8(stats%accepted_steps), "")//","//itoa8(stats%rejected_steps())//',"'//figure//'",'// &
+            format_integer(stats%accepted_steps), "")//","//format_integer(stats%rejected_steps())//',"'//figure//'",'// &
             status_text//","//merge("1", "0", ok))
          if (.not. ok) report%passed = .false.
       end subroutine verdict
@@ -371,21 +372,5 @@ contains
       end subroutine bad_input
 
    end subroutine run_extreme
-
-   pure function itoa8(i) result(text)
-      integer(i8), intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=24) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function itoa8
-
-   pure function itoa(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=16) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function itoa
 
 end module taylorode_checks

@@ -14,7 +14,8 @@ module taylorode_experiments
    use taylorode_van_der_pol, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff
    use taylorode_test_set, only: new_test_problem
    use taylorode_cli, only: cli_request_type
-   use taylorode_report, only: report_type, format_real, format_count, format_fixed, pad, choose
+   use taylorode_report, only: report_type
+   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, pad, choose
    implicit none
    private
 
@@ -142,7 +143,7 @@ contains
       call reference_run(problem, 0.0_dp, t_end, problem%u0, t_out, u_ref, u_out_ref, stat)
       if (stat%code /= status_ok) return
 
-      call report%add_line("Van der Pol, mu = "//format_real(request%mu)//", IC"//itoa(request%ic)// &
+      call report%add_line("Van der Pol, mu = "//format_real(request%mu)//", IC"//format_integer(request%ic)// &
          ", t in [0, "//format_real(t_end)//"], "//split_name(request%splitting)//" splitting")
       call report%add_line("scheme "//request%scheme//", controller "//controller_name(options%controller)// &
          ", rtol "//format_real(options%rtol)//", atol "//format_real(options%atol)//", "// &
@@ -167,7 +168,7 @@ contains
       if (run_stat%code == status_ok) then
          call report%add_line("error at t = "//format_real(t_end)//": y "//format_real(abs(u(1) - u_ref(1)))// &
             ", z "//format_real(abs(u(2) - u_ref(2)))//" (against radau5 at rtol = atol = 1e-12)")
-         call report%add_line("max error on the "//itoa(request%dense_points)//"-point grid: "// &
+         call report%add_line("max error on the "//format_integer(request%dense_points)//"-point grid: "// &
             format_real(maxval(abs(u_out - u_out_ref)))//" (cubic Hermite dense output)")
       else
          call report%add_line("error: not measured, the run stopped at t = "//format_real(stats%t_reached))
@@ -175,15 +176,15 @@ contains
       if (allocated(request%history_file)) then
          table = report%new_table(request%history_file, "step,t,h,err,outcome,newton_iterations,y,z")
          do k = 1, history%count
-            row = itoa(k)//","//format_real(history%t(k), 16)//","//format_real(history%h(k), 16)//","// &
+            row = format_integer(k)//","//format_real(history%t(k), 16)//","//format_real(history%h(k), 16)//","// &
                format_real(history%err(k), 6)//","//attempt_name(history%outcome(k))//","// &
-               itoa(history%newton_iterations(k))
+               format_integer(history%newton_iterations(k))
             do j = 1, 2
                row = row//","//format_real(history%states(j, k), 16)
             end do
             call report%tables(table)%add_row(row)
          end do
-         call report%add_line("step history: "//itoa(history%count)//" attempts")
+         call report%add_line("step history: "//format_integer(history%count)//" attempts")
       end if
       stat = run_stat
    end subroutine run_vdp
@@ -217,7 +218,7 @@ contains
       else
          call report%add_line("step budget "//format_count(request%budget)//" attempts per run (--full lifts it)")
       end if
-      call report%add_line("CPU: cpu_time() around the integration, median of up to "//itoa(request%repeats)// &
+      call report%add_line("CPU: cpu_time() around the integration, median of up to "//format_integer(request%repeats)// &
          " runs (one run when it takes over 1 s); errors in the max norm against radau5 at 1e-12")
       call report%add_line("")
       call report%add_line(pad("IC", 2)//"  "//pad("scheme", -13)//pad("split", -6)//pad("accepted", 12)// &
@@ -233,7 +234,7 @@ contains
             if (names(k) == "radau5") options%q = 0.0_dp
             if (.not. request%full) options%max_steps = request%budget
             label = trim(names(k))
-            if (present(progress)) call progress("table: IC"//itoa(ic)//" "//label//" ("// &
+            if (present(progress)) call progress("table: IC"//format_integer(ic)//" "//label//" ("// &
                split_name(splits(k))//" splitting)")
             call timed_run(problem, label, options, 0.0_dp, 3000.0_dp, problem%u0, request%repeats, run, t_out)
             note = ""
@@ -259,13 +260,13 @@ contains
                paper_steps_text = format_count(int(paper_steps(paper_column(k), ic), i8))
                paper_cpu_text = format_fixed(paper_cpu(paper_column(k), ic), 2)
             end if
-            call report%add_line(pad(itoa(ic), 2)//"  "//pad(label, -13)//pad(split_name(splits(k)), -6)// &
+            call report%add_line(pad(format_integer(ic), 2)//"  "//pad(label, -13)//pad(split_name(splits(k)), -6)// &
                pad(steps_text, 12)//pad(format_count(run%stats%rejected_steps()), 9)// &
                pad(format_fixed(run%cpu_median, 3), 9)//pad(error_text(err_end), 11)// &
                pad(error_text(err_grid), 13)//pad(paper_steps_text, 12)//pad(paper_cpu_text, 12)//"  "//note)
-            call report%tables(table)%add_row(itoa(ic)//","//label//","//split_name(splits(k))//","// &
-               itoa8(run%stats%accepted_steps)//","//itoa8(run%stats%rejected_steps())//","// &
-               format_real(run%cpu_median, 4)//","//itoa(run%runs)//","//status_word(run%stat%code)//","// &
+            call report%tables(table)%add_row(format_integer(ic)//","//label//","//split_name(splits(k))//","// &
+               format_integer(run%stats%accepted_steps)//","//format_integer(run%stats%rejected_steps())//","// &
+               format_real(run%cpu_median, 4)//","//format_integer(run%runs)//","//status_word(run%stat%code)//","// &
                format_real(run%stats%t_reached, 8)//","//error_text(err_end)//","//error_text(err_grid)//","// &
                paper_steps_text_csv(paper_column(k), ic)//","//paper_cpu_text_csv(paper_column(k), ic))
          end do
@@ -304,7 +305,7 @@ contains
       call report%add_line("work-precision on "//problem%name//" over [" //format_real(problem%t0)//", "// &
          format_real(problem%t_end)//"]: rtol = tol, atol = tol * "// &
          format_real(atol_scale(problem))//"; error = max|u - ref| / max|ref| at t_end against "//reference_text)
-      call report%add_line("CPU: median of up to "//itoa(request%repeats)//" runs; step budget "// &
+      call report%add_line("CPU: median of up to "//format_integer(request%repeats)//" runs; step budget "// &
          format_count(request%budget))
       call report%add_line("")
       call report%add_line(pad("scheme", -13)//pad("tol", 10)//pad("accepted", 12)//pad("rejected", 10)// &
@@ -326,8 +327,8 @@ contains
                pad(format_fixed(run%cpu_median, 4), 10)//pad(error_text(err), 11)//"  "// &
                choose(run%stat%code == status_ok, "", status_name(run%stat%code)))
             call report%tables(table)%add_row(problem%name//","//label//","//format_real(tol, 2)//","// &
-               itoa8(run%stats%accepted_steps)//","//itoa8(run%stats%rejected_steps())//","// &
-               format_real(run%cpu_median, 4)//","//itoa(run%runs)//","//status_word(run%stat%code)//","// &
+               format_integer(run%stats%accepted_steps)//","//format_integer(run%stats%rejected_steps())//","// &
+               format_real(run%cpu_median, 4)//","//format_integer(run%runs)//","//status_word(run%stat%code)//","// &
                error_text(err))
          end do
       end do
@@ -402,7 +403,7 @@ contains
       integer, intent(in) :: column, ic
       character(len=:), allocatable :: text
       text = ""
-      if (column > 0) text = itoa(paper_steps(column, ic))
+      if (column > 0) text = format_integer(paper_steps(column, ic))
    end function paper_steps_text_csv
 
    pure function paper_cpu_text_csv(column, ic) result(text)
@@ -411,21 +412,5 @@ contains
       text = ""
       if (column > 0) text = format_fixed(paper_cpu(column, ic), 2)
    end function paper_cpu_text_csv
-
-   pure function itoa(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=16) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function itoa
-
-   pure function itoa8(i) result(text)
-      integer(i8), intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=24) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function itoa8
 
 end module taylorode_experiments

@@ -13,6 +13,7 @@ module taylorode_integrator
    use taylorode_controller, only: controller_factor
    use taylorode_history, only: step_history_type, attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite
+   use taylorode_strings, only: format_integer, format_real
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -141,14 +142,14 @@ contains
       do while (t < t_end)
          if (attempts >= options%max_steps) then
             call set_status(stat, status_max_steps, "integrate: maximum number of steps ("// &
-               itoa(options%max_steps)//") reached at t = "//rtoa(t))
+               format_integer(options%max_steps)//") reached at t = "//format_real(t, 6))
             exit
          end if
          last = t + h >= t_end - roundoff_steps*epsilon(1.0_dp)*abs(t_end)
          if (last) h = t_end - t
          if (h < options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
-            call set_status(stat, status_step_underflow, "integrate: step size "//rtoa(h)// &
-               " below the minimum step or the roundoff of t = "//rtoa(t))
+            call set_status(stat, status_step_underflow, "integrate: step size "//format_real(h, 6)// &
+               " below the minimum step or the roundoff of t = "//format_real(t, 6))
             exit
          end if
          attempts = attempts + 1
@@ -176,8 +177,8 @@ contains
             end if
             call record_attempt(nan, outcome, newton_before)
             if (failures >= options%max_failures) then
-               call set_status(stat, step_stat%code, "integrate: gave up after "//itoa(int(failures, i8))// &
-                  " consecutive failed attempts at t = "//rtoa(t)//", last: "//step_stat%message)
+               call set_status(stat, step_stat%code, "integrate: gave up after "//format_integer(int(failures, i8))// &
+                  " consecutive failed attempts at t = "//format_real(t, 6)//", last: "//step_stat%message)
                exit
             end if
             h = failure_shrink*h
@@ -376,21 +377,5 @@ contains
       end subroutine finish
 
    end subroutine integrate
-
-   pure function itoa(i) result(s)
-      integer(i8), intent(in) :: i
-      character(len=:), allocatable :: s
-      character(len=24) :: buffer
-      write (buffer, '(i0)') i
-      s = trim(buffer)
-   end function itoa
-
-   pure function rtoa(x) result(s)
-      real(dp), intent(in) :: x
-      character(len=:), allocatable :: s
-      character(len=32) :: buffer
-      write (buffer, '(es12.5)') x
-      s = trim(adjustl(buffer))
-   end function rtoa
 
 end module taylorode_integrator

@@ -325,12 +325,7 @@ contains
       real(dp), intent(in) :: u(:)
       !> df/dU at (t, u)
       class(matrix_type), intent(inout) :: jac
-      select type (jac)
-      type is (dense_matrix_type)
-         call problem%jac_f(t, u, jac%a)
-      type is (band_matrix_type)
-         call problem%jac_f_band(t, u, jac%ab(jac%kl + 1:, :))
-      end select
+      call evaluate_jacobian(problem, .true., t, u, jac)
       self%counters%jac_f_evaluations = self%counters%jac_f_evaluations + 1
    end subroutine eval_jac_f
 
@@ -346,14 +341,32 @@ contains
       real(dp), intent(in) :: u(:)
       !> dg/dU at (t, u)
       class(matrix_type), intent(inout) :: jac
-      select type (jac)
-      type is (dense_matrix_type)
-         call problem%jac_g(t, u, jac%a)
-      type is (band_matrix_type)
-         call problem%jac_g_band(t, u, jac%ab(jac%kl + 1:, :))
-      end select
+      call evaluate_jacobian(problem, .false., t, u, jac)
       self%counters%jac_g_evaluations = self%counters%jac_g_evaluations + 1
    end subroutine eval_jac_g
+
+   !> The problem's df/dU (`of_f`) or dg/dU into a dense matrix or its band storage.
+   subroutine evaluate_jacobian(problem, of_f, t, u, jac)
+      class(ode_problem), intent(inout) :: problem
+      logical, intent(in) :: of_f
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      class(matrix_type), intent(inout) :: jac
+      select type (jac)
+      type is (dense_matrix_type)
+         if (of_f) then
+            call problem%jac_f(t, u, jac%a)
+         else
+            call problem%jac_g(t, u, jac%a)
+         end if
+      type is (band_matrix_type)
+         if (of_f) then
+            call problem%jac_f_band(t, u, jac%ab(jac%kl + 1:, :))
+         else
+            call problem%jac_g_band(t, u, jac%ab(jac%kl + 1:, :))
+         end if
+      end select
+   end subroutine evaluate_jacobian
 
    !> Allocate the Newton work arrays for n unknowns and `systems` Newton matrices
    !> with bandwidths kl, ku (kl < 0: dense).

@@ -4,7 +4,8 @@ module test_cli
    use testdrive, only: new_unittest, unittest_type, error_type, check
    use taylorode, only: dp, i8, status_type, status_ok, controller_pid, norm_rms, vdp_split_stiff
    use taylorode_cli, only: cli_request_type, parse_command_line, help_text, command_names
-   use taylorode_report, only: report_type, format_count, format_real, format_fixed
+   use taylorode_report, only: report_type
+   use taylorode_strings, only: format_count, format_real, format_fixed
    use taylorode_experiments, only: run_vdp, run_table, run_sweep
    use taylorode_checks, only: run_stability, run_extreme
    use taylorode_bench, only: run_bench
