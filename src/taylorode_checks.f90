@@ -13,7 +13,8 @@ module taylorode_checks
    use taylorode_test_set, only: robertson_type, new_robertson, hires_type, new_hires
    use taylorode_cli, only: cli_request_type
    use taylorode_report, only: report_type
-   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, pad, choose
+   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, format_number, pad, &
+      choose
    use taylorode_experiments, only: progress_interface, reference_run
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
    implicit none

@@ -15,7 +15,8 @@ module taylorode_experiments
    use taylorode_test_set, only: new_test_problem
    use taylorode_cli, only: cli_request_type
    use taylorode_report, only: report_type
-   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, pad, choose
+   use taylorode_strings, only: format_real, format_count, format_fixed, format_integer, format_number, pad, &
+      choose
    implicit none
    private
 
@@ -143,8 +144,8 @@ contains
       call reference_run(problem, 0.0_dp, t_end, problem%u0, t_out, u_ref, u_out_ref, stat)
       if (stat%code /= status_ok) return
 
-      call report%add_line("Van der Pol, mu = "//format_real(request%mu)//", IC"//format_integer(request%ic)// &
-         ", t in [0, "//format_real(t_end)//"], "//split_name(request%splitting)//" splitting")
+      call report%add_line("Van der Pol, mu = "//format_number(request%mu)//", IC"//format_integer(request%ic)// &
+         ", t in [0, "//format_number(t_end)//"], "//split_name(request%splitting)//" splitting")
       call report%add_line("scheme "//request%scheme//", controller "//controller_name(options%controller)// &
          ", rtol "//format_real(options%rtol)//", atol "//format_real(options%atol)//", "// &
          merge("max", "rms", options%norm == norm_max)//" norm, h0 "//format_real(options%h0))
@@ -166,7 +167,7 @@ contains
       call report%add_line("accepted h in ["//format_real(stats%h_min_accepted)//", "// &
          format_real(stats%h_max_accepted)//"], CPU "//format_fixed(stats%cpu_seconds, 3)//" s")
       if (run_stat%code == status_ok) then
-         call report%add_line("error at t = "//format_real(t_end)//": y "//format_real(abs(u(1) - u_ref(1)))// &
+         call report%add_line("error at t = "//format_number(t_end)//": y "//format_real(abs(u(1) - u_ref(1)))// &
             ", z "//format_real(abs(u(2) - u_ref(2)))//" (against radau5 at rtol = atol = 1e-12)")
          call report%add_line("max error on the "//format_integer(request%dense_points)//"-point grid: "// &
             format_real(maxval(abs(u_out - u_out_ref)))//" (cubic Hermite dense output)")
@@ -302,8 +303,8 @@ contains
       end if
       decades = nint(log10(request%tol_high/request%tol_low)) + 1
       table = report%new_table("sweep.csv", "problem,scheme,tol,accepted,rejected,cpu_seconds,runs,status,error")
-      call report%add_line("work-precision on "//problem%name//" over [" //format_real(problem%t0)//", "// &
-         format_real(problem%t_end)//"]: rtol = tol, atol = tol * "// &
+      call report%add_line("work-precision on "//problem%name//" over [" //format_number(problem%t0)//", "// &
+         format_number(problem%t_end)//"]: rtol = tol, atol = tol * "// &
          format_real(atol_scale(problem))//"; error = max|u - ref| / max|ref| at t_end against "//reference_text)
       call report%add_line("CPU: median of up to "//format_integer(request%repeats)//" runs; step budget "// &
          format_count(request%budget))

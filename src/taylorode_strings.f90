@@ -4,7 +4,7 @@ module taylorode_strings
    implicit none
    private
 
-   public :: format_real, format_count, format_fixed, format_integer, pad, choose
+   public :: format_real, format_count, format_fixed, format_integer, format_number, pad, choose
 
    !> A whole number as text, without separators
    interface format_integer
@@ -54,6 +54,19 @@ contains
       ! one digit: "1.E+04" reads better as "1E+04"
       if (d == 1) text = text(:index(text, ".") - 1)//text(index(text, ".") + 1:)
    end function format_real
+
+   !> A real as people write it: whole numbers below 1e9 without decimals (3000),
+   !> anything else in scientific notation with 3 digits (1.00E-05).
+   pure function format_number(x) result(text)
+      !> The number
+      real(dp), intent(in) :: x
+      character(len=:), allocatable :: text
+      if (abs(x) < 1.0e9_dp .and. x == aint(x)) then
+         text = format_wide_integer(int(x, i8))
+      else
+         text = format_real(x)
+      end if
+   end function format_number
 
    !> A real with `decimals` digits after the point (e.g. 0.088).
    pure function format_fixed(x, decimals) result(text)

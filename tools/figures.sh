@@ -7,7 +7,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 csv_dir="${1:-out}"
 png_dir="${2:-docs}"
 mkdir -p "$csv_dir" "$png_dir"
-run() { fpm run --profile release -- "$@"; }
+fpm build --profile release
+app="$(fpm run --profile release --runner echo | tail -n 1)"
+run() { "$app" "$@"; }
 for scheme in si-t-1 si-t-2 i-t-1 i-t-2 radau5; do
   run vdp --scheme "$scheme" --history "$csv_dir/vdp_$scheme.csv" --force > "$csv_dir/vdp_$scheme.txt"
 done

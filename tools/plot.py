@@ -90,7 +90,7 @@ def work_precision_figure(csv_dir, png_dir):
     axis.set_xlabel("CPU seconds (median of repeated runs)")
     axis.set_ylabel("relative error at t_end")
     problem = rows[0]["problem"] if rows else ""
-    axis.set_title("Work-precision, " + problem + ", rtol = atol = 1e-2 ... 1e-8")
+    axis.set_title("Work-precision on " + problem + " (rtol = atol = tol, one point per decade)")
     axis.legend(fontsize=8)
     axis.grid(True, which="both", lw=0.3)
     fig.tight_layout()
