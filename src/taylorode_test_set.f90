@@ -136,7 +136,7 @@ contains
       case ("prothero-robinson")
          allocate (problem, source=new_prothero_robinson())
       case ("linear")
-         allocate (problem, source=new_linear_test((-1.0_dp, 1.0_dp), (-1.0e4_dp, 0.0_dp)))
+         allocate (problem, source=new_linear_test((-1.0_dp, 2.0_dp), (-10.0_dp, 0.0_dp)))
       case default
          valid = trim(test_problem_names(1))
          do i = 2, test_problem_count
