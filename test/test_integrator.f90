@@ -8,7 +8,7 @@ module test_integrator
       new_van_der_pol, van_der_pol_initial_state, vdp_ic_prepared, vdp_ic_unprepared, &
       controller_pi, controller_pid, norm_rms, advance_low, step_history_type, write_history_csv, &
       attempt_accepted, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
-      status_max_steps, status_step_underflow, status_newton_not_converged
+      status_max_steps, status_step_underflow, status_newton_not_converged, status_singular_matrix
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    use, intrinsic :: iso_c_binding, only: c_long_long
    implicit none
@@ -34,6 +34,16 @@ module test_integrator
    !> Allowed relative deviation of the step counts
    real(dp), parameter :: step_count_tolerance = 0.005_dp
 
+   !> g = u / t: at the end of a step from t = 0 the i-t-1 Newton matrix 1 - h/h is
+   !> exactly singular for every power-of-two step size
+   type, extends(ode_problem) :: singular_problem
+   contains
+      procedure :: f => singular_f
+      procedure :: g => singular_g
+      procedure :: jac_f => singular_jac_f
+      procedure :: jac_g => singular_jac_g
+   end type singular_problem
+
    !> A stiff part that returns NaN at every t > 0
    type, extends(ode_problem) :: poisoned_problem
    contains
@@ -58,6 +68,7 @@ contains
          new_unittest("step-size-underflow", test_step_underflow), &
          new_unittest("non-finite-values", test_nonfinite_values), &
          new_unittest("newton-failures", test_newton_failures), &
+         new_unittest("singular-newton-repeatedly", test_singular_repeatedly), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("no-allocation-per-step", test_no_allocation_per_step) &
@@ -399,6 +410,31 @@ contains
       call check(error, stat%code, status_ok, stat_message(stat))
    end subroutine test_newton_failures
 
+   !> A Newton matrix singular at every retry: after max_failures attempts the status
+   !> is status_singular_matrix and the initial state comes back.
+   subroutine test_singular_repeatedly(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(singular_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+
+      call new_scheme("i-t-1", scheme, stat)
+      options = integrator_options_type(h0=0.125_dp, max_failures=3, min_shrink=0.0_dp)
+      u = [1.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_singular_matrix, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, index(stat%message, "singular") > 0 .and. index(stat%message, "3 consecutive") > 0, &
+         stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%rejected_newton, 3_i8, "failed attempts")
+      if (allocated(error)) return
+      call check(error, u(1), 1.0_dp, "initial state returned")
+   end subroutine test_singular_repeatedly
+
    !> Dense output on a grid against runs that stop exactly at each grid time.
    subroutine test_dense_output(error)
       type(error_type), allocatable, intent(out) :: error
@@ -544,6 +580,34 @@ contains
          dudt = -u
       end if
    end subroutine poisoned_g
+
+   subroutine singular_f(self, t, u, dudt)
+      class(singular_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine singular_f
+
+   subroutine singular_jac_f(self, t, u, jac)
+      class(singular_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine singular_jac_f
+
+   subroutine singular_g(self, t, u, dudt)
+      class(singular_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = u/max(t, tiny(1.0_dp))
+   end subroutine singular_g
+
+   subroutine singular_jac_g(self, t, u, jac)
+      class(singular_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 1.0_dp/max(t, tiny(1.0_dp))
+   end subroutine singular_jac_g
 
    subroutine poisoned_jac(self, t, u, jac)
       class(poisoned_problem), intent(inout) :: self
