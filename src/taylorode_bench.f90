@@ -50,7 +50,6 @@ contains
          name = trim(scheme_names(k))
          options = paper_options()
          options%max_steps = request%budget
-         if (name == "radau5") options%q = 0.0_dp
          if (present(progress)) call progress("bench: "//name)
          call timed_run(vdp, name, options, 0.0_dp, 3000.0_dp, vdp%u0, request%repeats, run)
          per_step = 1.0e9_dp*run%cpu_median/real(max(run%stats%accepted_steps, 1_i8), dp)

@@ -127,7 +127,6 @@ contains
       t_end = problem%t_end
       if (request%t_end > 0.0_dp) t_end = request%t_end
       options = request%options
-      if (request%scheme == "radau5") options%q = 0.0_dp
       if (allocated(request%history_file)) options%history_states = .true.
       t_out = [(t_end*real(k - 1, dp)/real(request%dense_points - 1, dp), k=1, request%dense_points)]
       allocate (u_out(2, size(t_out)), u_out_ref(2, size(t_out)))
@@ -232,7 +231,6 @@ contains
          do k = 1, size(names)
             problem = new_van_der_pol(1000.0_dp, splits(k), ic)
             options = paper_options()
-            if (names(k) == "radau5") options%q = 0.0_dp
             if (.not. request%full) options%max_steps = request%budget
             label = trim(names(k))
             if (present(progress)) call progress("table: IC"//format_integer(ic)//" "//label//" ("// &

@@ -25,6 +25,11 @@ fi
 installed_fpm="$(fpm --version 2>/dev/null | sed -n 's/.*Version: *\([0-9.]*\).*/\1/p' | sed -n 1p || true)"
 if [ "$installed_fpm" != "$FPM_VERSION" ]; then
   python3 -m pip install --quiet --disable-pip-version-check "fpm==${FPM_VERSION}"
+  if command -v pyenv >/dev/null 2>&1; then pyenv rehash; fi
+fi
+if ! command -v fpm >/dev/null 2>&1; then
+  echo "setup: fpm was installed but is not on PATH; add $(python3 -m site --user-base)/bin to PATH" >&2
+  exit 1
 fi
 
 # test-drive: the real one when its repository answers, our stand-in otherwise.
