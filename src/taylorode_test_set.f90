@@ -371,8 +371,9 @@ contains
       r3 = self%c*u(4)
       dudt(1) = -r1
       dudt(2) = -r2
-      dudt(3) = -r1 - r2 + r3
       dudt(4) = r1 - r3
+      ! y3' = y2' - y4' exactly as computed, so that rounding keeps y2 - y3 - y4 = 0
+      dudt(3) = dudt(2) - dudt(4)
    end subroutine e5_g
 
    subroutine e5_jac_f(self, t, u, jac)
