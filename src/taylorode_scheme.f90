@@ -203,7 +203,8 @@ module taylorode_scheme
 contains
 
    !> One step of the scheme after checking its arguments: sizes agree, h > 0 and
-   !> finite, u0 finite. On any failure stat says why and u1 is set to u0.
+   !> finite, u0 finite. On any failure stat says why and u1 is set to u0. Each call
+   !> is a fresh step: nothing kept from earlier steps (factored Newton matrices) is used.
    subroutine take_step(self, problem, t, h, u0, u1, stat, delta)
       !> The scheme
       class(scheme_type), intent(inout) :: self
