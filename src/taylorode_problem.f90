@@ -146,7 +146,7 @@ contains
       width = lower + upper + 1
       allocate (base(n), shifted(n), probe(n), increment(n))
       band = 0.0_dp
-      call evaluate(u, base)
+      call evaluate_part(self, of_f, t, u, base)
       do group = 1, min(width, n)
          probe = u
          do j = group, n, width
@@ -154,23 +154,13 @@ contains
             probe(j) = u(j) + increment(j)
             increment(j) = probe(j) - u(j)
          end do
-         call evaluate(probe, shifted)
+         call evaluate_part(self, of_f, t, probe, shifted)
          do j = group, n, width
             do i = max(1, j - upper), min(n, j + lower)
                band(upper + 1 + i - j, j) = (shifted(i) - base(i))/increment(j)
             end do
          end do
       end do
-   contains
-      subroutine evaluate(state, value)
-         real(dp), intent(in) :: state(:)
-         real(dp), intent(out) :: value(:)
-         if (of_f) then
-            call self%f(t, state, value)
-         else
-            call self%g(t, state, value)
-         end if
-      end subroutine evaluate
    end subroutine band_forward_difference
 
    !> Forward-difference Jacobian of f.
@@ -202,26 +192,30 @@ contains
       real(dp) :: base(size(u)), shifted(size(u)), probe(size(u))
       real(dp) :: increment
       integer :: j
-      call evaluate(u, base)
+      call evaluate_part(self, of_f, t, u, base)
       probe = u
       do j = 1, size(u)
          increment = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
          probe(j) = u(j) + increment
          increment = probe(j) - u(j)
-         call evaluate(probe, shifted)
+         call evaluate_part(self, of_f, t, probe, shifted)
          jac(:, j) = (shifted - base)/increment
          probe(j) = u(j)
       end do
-   contains
-      subroutine evaluate(state, value)
-         real(dp), intent(in) :: state(:)
-         real(dp), intent(out) :: value(:)
-         if (of_f) then
-            call self%f(t, state, value)
-         else
-            call self%g(t, state, value)
-         end if
-      end subroutine evaluate
    end subroutine forward_difference
+
+   !> f(t, state) when `of_f`, else g(t, state).
+   subroutine evaluate_part(problem, of_f, t, state, value)
+      class(ode_problem), intent(inout) :: problem
+      logical, intent(in) :: of_f
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: state(:)
+      real(dp), intent(out) :: value(:)
+      if (of_f) then
+         call problem%f(t, state, value)
+      else
+         call problem%g(t, state, value)
+      end if
+   end subroutine evaluate_part
 
 end module taylorode_problem
