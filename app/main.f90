@@ -2,17 +2,18 @@
 !> prints its report and writes its CSV files when asked to (--out, --history).
 program taylorode_app
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-   use taylorode, only: status_type, status_ok
+   use taylorode, only: status_type, status_ok, status_invalid_argument
    use taylorode_cli, only: cli_request_type, parse_command_line, help_text
    use taylorode_report, only: report_type
    use taylorode_experiments, only: run_vdp, run_table, run_sweep
    use taylorode_checks, only: run_stability, run_extreme
    use taylorode_bench, only: run_bench
+   use taylorode_outputs, only: check_outputs, write_outputs
    implicit none
 
    type(cli_request_type) :: request
    type(report_type) :: report
-   type(status_type) :: stat
+   type(status_type) :: stat, write_stat
    character(len=:), allocatable :: args(:)
    integer :: k
 
@@ -21,7 +22,7 @@ program taylorode_app
    if (stat%code /= status_ok) then
       write (error_unit, '(a)') "taylorode: "//stat%message
       write (error_unit, '(a)') "try: taylorode --help"
-      error stop 2
+      stop 2, quiet=.true.
    end if
    if (request%help) then
       if (size(args) >= 1 .and. args(1)(1:1) /= "-") then
@@ -31,7 +32,12 @@ program taylorode_app
       end if
       stop
    end if
-   if (.not. outputs_writable()) error stop 2
+   call check_outputs(request, stat)
+   if (stat%code == status_ok) call make_output_directory(stat)
+   if (stat%code /= status_ok) then
+      write (error_unit, '(a)') "taylorode: "//stat%message
+      stop 2, quiet=.true.
+   end if
 
    select case (request%command)
    case ("vdp")
@@ -47,16 +53,14 @@ program taylorode_app
    case ("bench")
       call run_bench(request, report, stat, progress)
    end select
+   call write_outputs(request, report, write_stat)
 
    do k = 1, report%line_count
       write (output_unit, '(a)') report%lines(k)%text
    end do
-   call write_tables()
-   if (stat%code /= status_ok .and. request%command /= "vdp") then
-      write (error_unit, '(a)') "taylorode: "//stat%message
-      error stop 1
-   end if
-   if (.not. report%passed) error stop 1
+   if (stat%code /= status_ok) write (error_unit, '(a)') "taylorode: "//stat%message
+   if (write_stat%code /= status_ok) write (error_unit, '(a)') "taylorode: "//write_stat%message
+   if (stat%code /= status_ok .or. write_stat%code /= status_ok .or. .not. report%passed) stop 1, quiet=.true.
 
 contains
 
@@ -75,74 +79,17 @@ contains
       end do
    end subroutine read_arguments
 
-   !> The output directory exists (or is created) and no file of this run would be
-   !> overwritten without --force.
-   logical function outputs_writable()
-      logical :: exists
-      integer :: status
-      outputs_writable = .true.
-      if (allocated(request%history_file)) then
-         inquire (file=request%history_file, exist=exists)
-         if (exists .and. .not. request%force) then
-            write (error_unit, '(a)') "taylorode: "//request%history_file//" exists; use --force to overwrite it"
-            outputs_writable = .false.
-         end if
+   !> Create the --out directory when it does not exist.
+   subroutine make_output_directory(stat)
+      type(status_type), intent(inout) :: stat
+      integer :: exit_status
+      if (.not. allocated(request%out_dir)) return
+      call execute_command_line('mkdir -p "'//request%out_dir//'"', exitstat=exit_status)
+      if (exit_status /= 0) then
+         stat%code = status_invalid_argument
+         stat%message = "cannot create the directory "//request%out_dir
       end if
-      if (allocated(request%out_dir)) then
-         call execute_command_line('mkdir -p "'//request%out_dir//'"', exitstat=status)
-         if (status /= 0) then
-            write (error_unit, '(a)') "taylorode: cannot create the directory "//request%out_dir
-            outputs_writable = .false.
-         end if
-      end if
-   end function outputs_writable
-
-   !> Write the report's tables: the history where the user named it, the others
-   !> into --out; an existing file is kept unless --force.
-   subroutine write_tables()
-      integer :: t, r, unit, io
-      logical :: exists, failed
-      character(len=:), allocatable :: path
-      if (.not. allocated(report%tables)) return
-      failed = .false.
-      do t = 1, size(report%tables)
-         path = destination(report%tables(t)%file_name)
-         if (len(path) == 0) cycle
-         inquire (file=path, exist=exists)
-         if (exists .and. .not. request%force) then
-            write (error_unit, '(a)') "taylorode: "//path//" exists; not overwritten (use --force)"
-            failed = .true.
-            cycle
-         end if
-         open (newunit=unit, file=path, status="replace", action="write", iostat=io)
-         if (io /= 0) then
-            write (error_unit, '(a)') "taylorode: cannot write "//path
-            failed = .true.
-            cycle
-         end if
-         write (unit, '(a)') report%tables(t)%header
-         do r = 1, report%tables(t)%count
-            write (unit, '(a)') report%tables(t)%rows(r)%text
-         end do
-         close (unit)
-         write (output_unit, '(a)') "wrote "//path
-      end do
-      if (failed) error stop 1
-   end subroutine write_tables
-
-   !> Where a table goes: the history file as named, others into --out, "" for none.
-   function destination(file_name) result(path)
-      character(len=*), intent(in) :: file_name
-      character(len=:), allocatable :: path
-      path = ""
-      if (allocated(request%history_file)) then
-         if (file_name == request%history_file) then
-            path = file_name
-            return
-         end if
-      end if
-      if (allocated(request%out_dir)) path = request%out_dir//"/"//file_name
-   end function destination
+   end subroutine make_output_directory
 
    !> Progress of a long run, on standard error.
    subroutine progress(message)

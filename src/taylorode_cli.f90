@@ -19,6 +19,12 @@ module taylorode_cli
    character(len=*), parameter :: command_names(6) = [character(len=9) :: &
       "table", "vdp", "sweep", "stability", "extreme", "bench"]
 
+   !> Options that take a value
+   character(len=*), parameter :: valued_options(21) = [character(len=12) :: "--out", "--scheme", "--ic", &
+      "--mu", "--tend", "--split", "--rtol", "--atol", "--norm", "--controller", "--h0", "--hmax", &
+      "--history", "--dense", "--budget", "--repeats", "--problem", "--schemes", "--tols", "--grid", &
+      "--max-points"]
+
    !> Step budget of a table run unless --full or --budget
    integer(i8), parameter :: default_budget = 2000000_i8
 
@@ -122,6 +128,10 @@ contains
          end select
          if (arg(1:min(2, len(arg))) /= "--") then
             call fail('unexpected argument "'//arg//'" (options start with --)')
+            return
+         end if
+         if (.not. any(valued_options == arg)) then
+            call fail('unknown option "'//arg//'" for '//request%command//" (see --help)")
             return
          end if
          if (i > size(args)) then

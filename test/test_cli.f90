@@ -9,6 +9,7 @@ module test_cli
    use taylorode_experiments, only: run_vdp, run_table, run_sweep
    use taylorode_checks, only: run_stability, run_extreme
    use taylorode_bench, only: run_bench
+   use taylorode_outputs, only: check_outputs, write_outputs, table_destination
    implicit none
    private
 
@@ -30,7 +31,8 @@ contains
          new_unittest("sweep-report", test_sweep_report), &
          new_unittest("stability-report", test_stability_report), &
          new_unittest("extreme-report", test_extreme_report), &
-         new_unittest("bench-report", test_bench_report) &
+         new_unittest("bench-report", test_bench_report), &
+         new_unittest("output-files", test_output_files) &
          ]
    end subroutine collect_cli
 
@@ -77,6 +79,8 @@ contains
       call expect([character(len=10) :: "vdp", "--frobnicate", "1"], "unknown option")
       if (allocated(error)) return
       call expect([character(len=10) :: "vdp", "--mu"], "needs a value")
+      if (allocated(error)) return
+      call expect([character(len=10) :: "vdp", "--bogus"], "unknown option")
       if (allocated(error)) return
       call expect([character(len=10) :: "vdp", "--mu", "abc"], "needs a number")
       if (allocated(error)) return
@@ -313,6 +317,56 @@ contains
       call check(error, has_line(report, "reuse off:") .and. has_line(report, "% of the run") .and. &
          has_line(report, "budget reached"), "bench sections")
    end subroutine test_bench_report
+
+   !> Files are written only where asked for and never overwritten without --force.
+   subroutine test_output_files(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: directory = "build/test-outputs"
+      type(cli_request_type) :: request
+      type(status_type) :: stat
+      type(report_type) :: report
+      integer :: table, unit
+
+      call execute_command_line("rm -rf "//directory//" && mkdir -p "//directory)
+      table = report%new_table("t.csv", "a,b")
+      call report%tables(table)%add_row("1,2")
+
+      ! no --out: nothing is written
+      call parse_command_line([character(len=10) :: "stability"], request, stat)
+      call write_outputs(request, report, stat)
+      call check(error, stat%code == status_ok .and. report%line_count == 0, "wrote without --out")
+      if (allocated(error)) return
+
+      call parse_command_line([character(len=20) :: "stability", "--out", directory], request, stat)
+      call check(error, table_destination(request, "t.csv"), directory//"/t.csv")
+      if (allocated(error)) return
+      call write_outputs(request, report, stat)
+      call check(error, stat%code == status_ok .and. report%line_count == 1, "first write")
+      if (allocated(error)) return
+      call write_outputs(request, report, stat)
+      call check(error, stat%code /= status_ok .and. index(stat%message, "use --force") > 0, &
+         "an existing file must be kept without --force")
+      if (allocated(error)) return
+      call parse_command_line([character(len=20) :: "stability", "--out", directory, "--force"], request, stat)
+      call write_outputs(request, report, stat)
+      call check(error, stat%code, status_ok, "--force overwrites")
+      if (allocated(error)) return
+
+      ! a step history that exists is refused before the run
+      open (newunit=unit, file=directory//"/h.csv", status="replace", action="write")
+      close (unit)
+      call parse_command_line([character(len=30) :: "vdp", "--history", directory//"/h.csv"], request, stat)
+      call check_outputs(request, stat)
+      call check(error, stat%code /= status_ok .and. index(stat%message, "exists") > 0, "history overwritten")
+      if (allocated(error)) return
+      call parse_command_line([character(len=30) :: "vdp", "--history", directory//"/h.csv", "--force"], &
+         request, stat)
+      call check_outputs(request, stat)
+      call check(error, stat%code, status_ok, "history with --force")
+      if (allocated(error)) return
+      call check(error, table_destination(request, directory//"/h.csv"), directory//"/h.csv")
+      call execute_command_line("rm -rf "//directory)
+   end subroutine test_output_files
 
    !> Field separators: commas outside double quotes.
    integer function count_separators(text)
