@@ -20,7 +20,7 @@ module taylorode_radau
    use taylorode_kinds, only: dp
    use taylorode_status, only: status_type, set_status, status_ok, status_singular_matrix
    use taylorode_problem, only: ode_problem
-   use taylorode_scheme, only: implicit_scheme_type, default_newton_tolerance
+   use taylorode_scheme, only: implicit_scheme_type
    use taylorode_matrix, only: dense_matrix_type, new_matrix
    implicit none
    private
@@ -144,17 +144,8 @@ contains
       if (self%started) retry = t == self%previous_t0 .and. all(u0 == self%u0)
       self%started = .true.
       self%previous_t0 = t
-      self%t0 = t
-      self%h = h
+      call self%begin_implicit_step(t, h, u0, newton_tolerance)
       self%u0 = u0
-      do s = 1, 3
-         if (present(newton_tolerance)) then
-            self%newton_tolerance((s - 1)*n + 1:s*n) = max(newton_tolerance, &
-               10.0_dp*epsilon(1.0_dp)*abs(u0), tiny(1.0_dp))
-         else
-            self%newton_tolerance((s - 1)*n + 1:s*n) = default_newton_tolerance*(1.0_dp + abs(u0))
-         end if
-      end do
 
       ! the stage increments start from the explicit guess Z_j = c_j h F(t0, U0),
       ! which the error estimate reuses; the solution is U0 + Z3

@@ -396,8 +396,10 @@ contains
       self%systems%factored = .false.
    end subroutine implicit_restart
 
-   !> Record t, h and the Newton tolerance for the step about to be taken:
-   !> the caller's per-component tolerance, or default_newton_tolerance * (1 + |u0|).
+   !> Record t, h and the Newton tolerance for the step about to be taken: the
+   !> caller's per-component tolerance, or default_newton_tolerance * (1 + |u0|). A
+   !> scheme whose nonlinear system stacks several copies of the state (radau5: three
+   !> stages) gets the tolerance repeated for each copy.
    subroutine begin_implicit_step(self, t, h, u0, newton_tolerance)
       !> The scheme
       class(implicit_scheme_type), intent(inout) :: self
@@ -409,14 +411,20 @@ contains
       real(dp), intent(in) :: u0(:)
       !> Caller's absolute tolerance per component
       real(dp), intent(in), optional :: newton_tolerance(:)
+      integer :: n, block
       self%t0 = t
       self%h = h
-      if (present(newton_tolerance)) then
-         ! never ask for more than roundoff allows, nor for a zero tolerance
-         self%newton_tolerance = max(newton_tolerance, 4.0_dp*epsilon(1.0_dp)*abs(u0), tiny(1.0_dp))
-      else
-         self%newton_tolerance = default_newton_tolerance*(1.0_dp + abs(u0))
-      end if
+      n = size(u0)
+      do block = 0, size(self%newton_tolerance)/n - 1
+         associate (tolerance => self%newton_tolerance(block*n + 1:(block + 1)*n))
+            if (present(newton_tolerance)) then
+               ! never ask for more than roundoff allows, nor for a zero tolerance
+               tolerance = max(newton_tolerance, 10.0_dp*epsilon(1.0_dp)*abs(u0), tiny(1.0_dp))
+            else
+               tolerance = default_newton_tolerance*(1.0_dp + abs(u0))
+            end if
+         end associate
+      end do
    end subroutine begin_implicit_step
 
    !> Newton's method for r(u) = 0 (system `system` of the current step), from the
