@@ -2,7 +2,8 @@
 !> proportionality, controllers, failure statuses, dense output and step history.
 module test_integrator
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use test_support, only: rk4_reference, stat_message, itoa, rtoa
+   use taylorode_strings, only: format_integer, format_real
+   use test_support, only: rk4_reference, stat_message
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, &
       integrator_options_type, integration_stats_type, paper_options, van_der_pol_type, &
       new_van_der_pol, van_der_pol_initial_state, vdp_ic_prepared, vdp_ic_unprepared, &
@@ -97,11 +98,11 @@ contains
             call check(error, stats%t_reached, 3000.0_dp, "t_reached")
             if (allocated(error)) return
             deviation = abs(real(stats%accepted_steps - vdp_accepted(k, ic), dp))/vdp_accepted(k, ic)
-            call check(error, deviation <= step_count_tolerance, names(k)//" IC"//itoa(ic)// &
-               ": "//itoa(int(stats%accepted_steps))//" accepted steps, expected "//itoa(vdp_accepted(k, ic)))
+            call check(error, deviation <= step_count_tolerance, names(k)//" IC"//format_integer(ic)// &
+               ": "//format_integer(int(stats%accepted_steps))//" accepted steps, expected "//format_integer(vdp_accepted(k, ic)))
             if (allocated(error)) return
             call check(error, stats%rejected_error > 0 .and. stats%rejected_error < 100, &
-               names(k)//": about 35 rejections expected, got "//itoa(int(stats%rejected_error)))
+               names(k)//": about 35 rejections expected, got "//format_integer(int(stats%rejected_error)))
             if (allocated(error)) return
             if (names(k) == "i-t-2") then
                ! measured: 5.2e-5 (IC1) and 5.9e-5 (IC2)
@@ -143,7 +144,7 @@ contains
             errors(i) = maxval(abs(u - reference))
             ratio = errors(i)/tolerances(i)
             call check(error, ratio > 0.01_dp .and. ratio < 10.0_dp, trim(names(k))// &
-               ": global error / tol out of [0.01, 10] at tol index "//itoa(i))
+               ": global error / tol out of [0.01, 10] at tol index "//format_integer(i))
             if (allocated(error)) return
          end do
          call check(error, all(errors(2:) < errors(:size(errors) - 1)), &
@@ -151,7 +152,7 @@ contains
          if (allocated(error)) return
          slope = log10(errors(1)/errors(size(errors)))/3.0_dp
          call check(error, slope > 0.8_dp .and. slope < 1.3_dp, trim(names(k))// &
-            ": error against tolerance is not proportional, slope "//rtoa(slope))
+            ": error against tolerance is not proportional, slope "//format_real(slope))
          if (allocated(error)) return
       end do
    end subroutine test_tolerance_proportionality
@@ -469,7 +470,7 @@ contains
          if (allocated(error)) return
          ! both carry a global error of order tol; the interpolant adds O(h^4) ~ tol^2
          call check(error, maxval(abs(u_out(:, k) - u_direct)) < 20*tol, &
-            "dense output differs from a direct run at t = 0."//itoa(k - 1))
+            "dense output differs from a direct run at t = 0."//format_integer(k - 1))
          if (allocated(error)) return
       end do
    end subroutine test_dense_output
@@ -558,7 +559,7 @@ contains
          call check(error, long_stats%accepted_steps > 5*short_stats%accepted_steps, "runs too alike")
          if (allocated(error)) return
          call check(error, int(long_run), int(short_run), trim(names(k))//": allocations grow with the steps ("// &
-            itoa(int(short_stats%accepted_steps))//" and "//itoa(int(long_stats%accepted_steps))//" steps)")
+            format_integer(int(short_stats%accepted_steps))//" and "//format_integer(int(long_stats%accepted_steps))//" steps)")
          if (allocated(error)) return
       end do
    end subroutine test_no_allocation_per_step

@@ -2,7 +2,8 @@
 !> reference values, and every scheme on the extreme cases.
 module test_reference
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use test_support, only: stat_message, rtoa
+   use taylorode_strings, only: format_real
+   use test_support, only: stat_message
    use taylorode, only: dp, i8, scheme_type, status_type, new_scheme, integrate, integrate_fixed, &
       integrator_options_type, integration_stats_type, van_der_pol_type, new_van_der_pol, &
       vdp_ic_prepared, vdp_ic_unprepared, robertson_type, new_robertson, status_ok, status_max_steps, &
@@ -76,7 +77,7 @@ contains
          call check(error, stat%code, status_ok, stat_message(stat))
          if (allocated(error)) return
          call check(error, maxval(abs(u - problem%reference)) < 1.0e-9_dp, &
-            "radau5 misses the Van der Pol reference by "//rtoa(maxval(abs(u - problem%reference))))
+            "radau5 misses the Van der Pol reference by "//format_real(maxval(abs(u - problem%reference))))
          if (allocated(error)) return
       end do
    end subroutine test_radau_van_der_pol
@@ -103,8 +104,8 @@ contains
          call check(error, stat%code, status_ok, stat_message(stat))
          if (allocated(error)) return
          call check(error, maxval(abs(u - problem%reference)/problem%reference) < 1.0e-6_dp, &
-            "Robertson at t = "//rtoa(ends(k))//": relative error "// &
-            rtoa(maxval(abs(u - problem%reference)/problem%reference)))
+            "Robertson at t = "//format_real(ends(k))//": relative error "// &
+            format_real(maxval(abs(u - problem%reference)/problem%reference)))
          if (allocated(error)) return
          call check(error, minval(u) >= -1.0e-20_dp, "negative concentration")
          if (allocated(error)) return
@@ -139,7 +140,7 @@ contains
          call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
          if (allocated(error)) return
          err = maxval(abs(u - problem%reference))/maxval(abs(problem%reference))
-         call check(error, err < bounds(k), trim(names(k))//": error "//rtoa(err)//" against the reference")
+         call check(error, err < bounds(k), trim(names(k))//": error "//format_real(err)//" against the reference")
          if (allocated(error)) return
       end do
    end subroutine test_radau_test_set

@@ -2,7 +2,8 @@
 !> every one-step scheme.
 module test_schemes
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use test_support, only: rk4_reference, stat_message, itoa
+   use taylorode_strings, only: format_integer
+   use test_support, only: rk4_reference, stat_message
    use taylorode, only: dp, ode_problem, scheme_type, status_type, new_scheme, scheme_names, &
       scheme_count, integrate_fixed, linear_test_type, stability_function, van_der_pol_type, &
       new_van_der_pol, status_ok, status_size_mismatch, status_invalid_argument, status_nonfinite, &
@@ -191,7 +192,7 @@ contains
             if (allocated(error)) return
             r = stability_function(trim(scheme_names(k)), z(i), w(i))
             call check(error, abs(cmplx(u1(1), u1(2), dp) - r) <= stability_tolerance*max(abs(r), 1.0_dp), &
-               trim(scheme_names(k))//": one step differs from R(z, w) at pair "//itoa(i))
+               trim(scheme_names(k))//": one step differs from R(z, w) at pair "//format_integer(i))
             if (allocated(error)) return
          end do
       end do

@@ -5,7 +5,7 @@ module test_support
    implicit none
    private
 
-   public :: rk4_reference, stat_message, itoa, rtoa
+   public :: rk4_reference, stat_message
 
 contains
 
@@ -49,23 +49,5 @@ contains
          message = "ok"
       end if
    end function stat_message
-
-   !> Integer as text.
-   function itoa(i) result(s)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: s
-      character(len=12) :: buffer
-      write (buffer, '(i0)') i
-      s = trim(buffer)
-   end function itoa
-
-   !> Real as short text.
-   function rtoa(x) result(s)
-      real(dp), intent(in) :: x
-      character(len=:), allocatable :: s
-      character(len=16) :: buffer
-      write (buffer, '(es10.3)') x
-      s = trim(adjustl(buffer))
-   end function rtoa
 
 end module test_support
