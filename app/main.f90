@@ -3,12 +3,13 @@
 program taylorode_app
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use taylorode, only: status_type, status_ok, status_invalid_argument
-   use taylorode_cli, only: cli_request_type, parse_command_line, help_text
-   use taylorode_report, only: report_type
-   use taylorode_experiments, only: run_vdp, run_table, run_sweep
-   use taylorode_checks, only: run_stability, run_extreme
-   use taylorode_bench, only: run_bench
-   use taylorode_outputs, only: check_outputs, write_outputs
+   use app_cli, only: cli_request_type, parse_command_line, help_text
+   use app_report, only: report_type
+   use app_experiments, only: run_vdp, run_table, run_sweep
+   use app_checks, only: run_stability, run_extreme
+   use app_bench, only: run_bench
+   use app_outputs, only: check_outputs, write_outputs
+   use app_progress, only: progress
    implicit none
 
    type(cli_request_type) :: request
@@ -90,11 +91,5 @@ contains
          stat%message = "cannot create the directory "//request%out_dir
       end if
    end subroutine make_output_directory
-
-   !> Progress of a long run, on standard error.
-   subroutine progress(message)
-      character(len=*), intent(in) :: message
-      write (error_unit, '(a)') "  ... "//message
-   end subroutine progress
 
 end program taylorode_app

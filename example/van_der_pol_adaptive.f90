@@ -2,9 +2,9 @@
 !> t in [0, 3000], I controller, absolute tolerance 1e-5 in the max norm.
 !> Usage: fpm run --example van_der_pol_adaptive [-- SCHEME [IC]]   (default i-t-2, IC 1)
 program van_der_pol_adaptive
-   use taylorode, only: dp, van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
-      scheme_type, new_scheme, status_type, integrate, integrator_options_type, paper_options, &
-      integration_stats_type
+   use taylorode, only: dp, scheme_type, new_scheme, status_type, integrate, integrator_options_type, &
+      paper_options, integration_stats_type
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state
    implicit none
 
    type(van_der_pol_type) :: problem

@@ -2,8 +2,8 @@
 !> state, 20000 fixed steps of i-t-2 over [0, 2]. Copy and change the scheme name,
 !> mu or the number of steps.
 program van_der_pol_fixed
-   use taylorode, only: dp, van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
-      vdp_ic_prepared, scheme_type, new_scheme, status_type, integrate_fixed
+   use taylorode, only: dp, scheme_type, new_scheme, status_type, integrate_fixed
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, vdp_ic_prepared
    implicit none
 
    type(van_der_pol_type) :: problem

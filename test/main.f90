@@ -3,7 +3,8 @@
 program tester
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type
-   use test_cli, only: collect_cli
+   use test_app, only: collect_app
+   use test_base, only: collect_base
    use test_integrator, only: collect_integrator
    use test_problems, only: collect_problems
    use test_reference, only: collect_reference
@@ -16,11 +17,12 @@ program tester
    character(len=*), parameter :: fmt = '("#", *(1x, a))'
 
    suites = [ &
+      new_testsuite("base", collect_base), &
       new_testsuite("problems", collect_problems), &
       new_testsuite("schemes", collect_schemes), &
       new_testsuite("integrator", collect_integrator), &
       new_testsuite("reference", collect_reference), &
-      new_testsuite("cli", collect_cli) &
+      new_testsuite("app", collect_app) &
       ]
    passed = 0
    failed = 0

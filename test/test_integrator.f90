@@ -2,12 +2,13 @@
 !> proportionality, controllers, failure statuses, dense output and step history.
 module test_integrator
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use taylorode_strings, only: format_integer, format_real
+   use taylorode_base_strings, only: format_integer, format_real
    use test_support, only: rk4_reference, stat_message
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
+      vdp_ic_prepared, vdp_ic_unprepared
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, &
-      integrator_options_type, integration_stats_type, paper_options, van_der_pol_type, &
-      new_van_der_pol, van_der_pol_initial_state, vdp_ic_prepared, vdp_ic_unprepared, &
-      controller_pi, controller_pid, norm_rms, advance_low, step_history_type, write_history_csv, &
+      integrator_options_type, integration_stats_type, paper_options, controller_pi, controller_pid, &
+      norm_rms, advance_low, step_history_type, write_history_csv, &
       attempt_accepted, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_max_steps, status_step_underflow, status_newton_not_converged, status_singular_matrix
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan

@@ -2,11 +2,12 @@
 !> problem that supplies only f and g.
 module test_problems
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use taylorode, only: dp, ode_problem, ode_problem_fd, van_der_pol_type, new_van_der_pol, &
-      vdp_split_paper, vdp_split_stiff, linear_test_type, scheme_type, status_type, new_scheme, &
-      integrate_fixed, status_ok, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, &
-      new_test_problem, test_problem_names, test_problem_count, brusselator_type, new_brusselator, &
-      integrate, integrator_options_type, integration_stats_type
+   use taylorode, only: dp, ode_problem, ode_problem_fd, scheme_type, status_type, new_scheme, &
+      integrate_fixed, status_ok, integrate, integrator_options_type, integration_stats_type, &
+      matrix_structure_type, dense_structure
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
+      linear_test_type, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, new_test_problem, &
+      test_problem_names, test_problem_count, brusselator_type, new_brusselator
    implicit none
    private
 
@@ -16,10 +17,10 @@ module test_problems
    !> the second derivatives; relative to the Jacobian's size 1e-6 leaves a margin of ~100.
    real(dp), parameter :: fd_tolerance = 1.0e-6_dp
 
-   !> The Brusselator on the dense path: the same problem without its bandwidths
+   !> The Brusselator on the dense path: the same problem declaring a dense structure
    type, extends(brusselator_type) :: dense_brusselator
    contains
-      procedure :: bandwidths => dense_bandwidths
+      procedure :: jacobian_structure => dense_jacobian_structure
    end type dense_brusselator
 
    !> The Brusselator with bandwidths but no analytic band Jacobians: the band
@@ -31,7 +32,7 @@ module test_problems
       procedure :: g => differenced_g
       procedure :: jac_f => differenced_jac_f
       procedure :: jac_g => differenced_jac_g
-      procedure :: bandwidths => differenced_bandwidths
+      procedure :: jacobian_structure => differenced_structure
    end type differenced_brusselator
 
    !> Van der Pol written as a user without Jacobians would: f and g only
@@ -294,13 +295,12 @@ contains
       end do
    end subroutine test_banded_path
 
-   subroutine dense_bandwidths(self, n, lower, upper)
+   function dense_jacobian_structure(self, n) result(structure)
       class(dense_brusselator), intent(in) :: self
       integer, intent(in) :: n
-      integer, intent(out) :: lower, upper
-      lower = -1
-      upper = -1
-   end subroutine dense_bandwidths
+      type(matrix_structure_type) :: structure
+      structure = dense_structure()
+   end function dense_jacobian_structure
 
    subroutine differenced_f(self, t, u, dudt)
       class(differenced_brusselator), intent(inout) :: self
@@ -330,12 +330,12 @@ contains
       call self%model%jac_g(t, u, jac)
    end subroutine differenced_jac_g
 
-   subroutine differenced_bandwidths(self, n, lower, upper)
+   function differenced_structure(self, n) result(structure)
       class(differenced_brusselator), intent(in) :: self
       integer, intent(in) :: n
-      integer, intent(out) :: lower, upper
-      call self%model%bandwidths(n, lower, upper)
-   end subroutine differenced_bandwidths
+      type(matrix_structure_type) :: structure
+      structure = self%model%jacobian_structure(n)
+   end function differenced_structure
 
    subroutine test_unknown_problem(error)
       type(error_type), allocatable, intent(out) :: error

@@ -2,12 +2,12 @@
 !> reference values, and every scheme on the extreme cases.
 module test_reference
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use taylorode_strings, only: format_real
+   use taylorode_base_strings, only: format_real
    use test_support, only: stat_message
    use taylorode, only: dp, i8, scheme_type, status_type, new_scheme, integrate, integrate_fixed, &
-      integrator_options_type, integration_stats_type, van_der_pol_type, new_van_der_pol, &
-      vdp_ic_prepared, vdp_ic_unprepared, robertson_type, new_robertson, status_ok, status_max_steps, &
-      test_problem_type, new_test_problem
+      integrator_options_type, integration_stats_type, status_ok, status_max_steps
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_ic_prepared, vdp_ic_unprepared, &
+      robertson_type, new_robertson, test_problem_type, new_test_problem
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private

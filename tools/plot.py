@@ -25,7 +25,7 @@ def accepted_history(path):
     rows = [r for r in read_rows(path) if r["outcome"] == "accepted"]
     t = [float(r["t"]) + float(r["h"]) for r in rows]
     h = [float(r["h"]) for r in rows]
-    y = [float(r["y"]) for r in rows]
+    y = [float(r["u1"]) for r in rows]
     return t, h, y
 
 

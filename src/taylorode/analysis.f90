@@ -1,0 +1,20 @@
+!> Analyses a user can run on their own problems and schemes: the stability
+!> function of a scheme against one real step and its S1 region, observed orders
+!> of convergence, and work-precision sweeps (timed runs against a reference).
+module taylorode_analysis
+   use taylorode_analysis_stability, only: stability_function, step_stability, s1_supremum, s1_contains, &
+      s1_axis_crossings
+   use taylorode_analysis_order, only: observed_orders
+   use taylorode_analysis_work_precision, only: timed_run_type, timed_run, reference_run, reference_tolerance, &
+      median, work_precision_config_type, work_precision_point_type, work_precision, tolerance_scale, &
+      progress_interface
+   implicit none
+   private
+
+   public :: stability_function, step_stability, s1_supremum, s1_contains, s1_axis_crossings
+   public :: observed_orders
+   public :: timed_run_type, timed_run, reference_run, reference_tolerance, median
+   public :: work_precision_config_type, work_precision_point_type, work_precision, tolerance_scale, &
+      progress_interface
+
+end module taylorode_analysis

@@ -1,0 +1,88 @@
+!> Status codes and the status object every fallible library procedure returns.
+!>
+!> The library never stops and never prints: a procedure that can fail sets a
+!> `status_type` (an integer code from the named constants below plus a readable
+!> message) and returns; the caller decides what to do.
+module taylorode_base_status
+   implicit none
+   private
+
+   public :: status_type, set_status, status_name
+   public :: status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
+      status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
+      status_step_underflow, status_max_steps, status_unknown_scheme
+
+   !> Success
+   integer, parameter :: status_ok = 0
+   !> An argument or option is out of its valid range (h <= 0, tolerance <= 0, NaN option, ...)
+   integer, parameter :: status_invalid_argument = 1
+   !> Arrays passed together do not have matching sizes
+   integer, parameter :: status_size_mismatch = 2
+   !> The state or a right-hand side value is NaN or infinite
+   integer, parameter :: status_nonfinite = 3
+   !> The Newton iteration matrix is singular (LAPACK dgetrf info > 0)
+   integer, parameter :: status_singular_matrix = 4
+   !> The Newton iteration diverged (growing increments or non-finite iterate)
+   integer, parameter :: status_newton_diverged = 5
+   !> The Newton iteration did not converge within the allowed number of iterations
+   integer, parameter :: status_newton_not_converged = 6
+   !> The step size fell below the minimum step or below the roundoff of t
+   integer, parameter :: status_step_underflow = 7
+   !> The maximum number of steps was reached before the end of the interval
+   integer, parameter :: status_max_steps = 8
+   !> A scheme name that the factory does not know
+   integer, parameter :: status_unknown_scheme = 9
+
+   !> Outcome of a library call: `code == status_ok` means success
+   type :: status_type
+      !> One of the `status_*` constants
+      integer :: code = status_ok
+      !> Human-readable explanation, allocated when `code /= status_ok`
+      character(len=:), allocatable :: message
+   contains
+      !> True when the call succeeded
+      procedure :: ok => status_is_ok
+   end type status_type
+
+contains
+
+   !> True when the status reports success.
+   elemental function status_is_ok(self) result(ok)
+      class(status_type), intent(in) :: self
+      logical :: ok
+      ok = self%code == status_ok
+   end function status_is_ok
+
+   !> Record a failure (or success, with `status_ok`) and its message.
+   pure subroutine set_status(stat, code, message)
+      !> Status to overwrite
+      type(status_type), intent(inout) :: stat
+      !> One of the `status_*` constants
+      integer, intent(in) :: code
+      !> Explanation for the caller
+      character(len=*), intent(in) :: message
+      stat%code = code
+      stat%message = message
+   end subroutine set_status
+
+   !> Short name of a status code, for tables and logs.
+   pure function status_name(code) result(name)
+      !> One of the `status_*` constants
+      integer, intent(in) :: code
+      character(len=:), allocatable :: name
+      select case (code)
+      case (status_ok); name = "ok"
+      case (status_invalid_argument); name = "invalid argument"
+      case (status_size_mismatch); name = "size mismatch"
+      case (status_nonfinite); name = "non-finite value"
+      case (status_singular_matrix); name = "singular Newton matrix"
+      case (status_newton_diverged); name = "Newton diverged"
+      case (status_newton_not_converged); name = "Newton not converged"
+      case (status_step_underflow); name = "step size underflow"
+      case (status_max_steps); name = "maximum steps reached"
+      case (status_unknown_scheme); name = "unknown scheme"
+      case default; name = "unknown status"
+      end select
+   end function status_name
+
+end module taylorode_base_status

@@ -1,0 +1,71 @@
+!> Step-size controllers (METHODS.md section 3): the paper's I controller and the
+!> PI and PID controllers in the form
+!>
+!>   h_new = kappa h err_n^(-k1/q) err_{n-1}^(k2/q) err_{n-2}^(-k3/q)
+!>
+!> where err_n is the weighted error of the current step and err_{n-1}, err_{n-2}
+!> those of the previous accepted steps.
+module taylorode_integrate_controller
+   use taylorode_base_kinds, only: dp
+   implicit none
+   private
+
+   public :: controller_i, controller_pi, controller_pid, controller_factor, controller_name
+   public :: default_kappa
+
+   !> I controller (the paper's): k = (1, 0, 0)
+   integer, parameter :: controller_i = 1
+   !> PI controller: k = (0.7, 0.4, 0)
+   integer, parameter :: controller_pi = 2
+   !> PID controller (SUNDIALS defaults): k = (0.58, 0.21, 0.1)
+   integer, parameter :: controller_pid = 3
+   !> Safety factor of the paper
+   real(dp), parameter :: default_kappa = 0.9_dp
+
+   !> Gains (k1, k2, k3) of each controller, by column
+   real(dp), parameter :: gains(3, 3) = reshape([ &
+      1.0_dp, 0.0_dp, 0.0_dp, &
+      0.7_dp, 0.4_dp, 0.0_dp, &
+      0.58_dp, 0.21_dp, 0.1_dp], [3, 3])
+
+contains
+
+   !> Factor h_new / h from the current and the two previous weighted errors.
+   !> Errors below roundoff are raised to epsilon so that the factor stays finite.
+   pure function controller_factor(controller, kappa, q, err, err_previous, err_before) result(factor)
+      !> controller_i, controller_pi or controller_pid
+      integer, intent(in) :: controller
+      !> Safety factor
+      real(dp), intent(in) :: kappa
+      !> Order exponent (the lower order of the embedded pair plus one)
+      real(dp), intent(in) :: q
+      !> Weighted error of the current step
+      real(dp), intent(in) :: err
+      !> Weighted error of the previous accepted step (1 when there is none)
+      real(dp), intent(in) :: err_previous
+      !> Weighted error of the accepted step before that (1 when there is none)
+      real(dp), intent(in) :: err_before
+      real(dp) :: factor
+      real(dp) :: e0, e1, e2
+
+      e0 = max(err, epsilon(1.0_dp))
+      e1 = max(err_previous, epsilon(1.0_dp))
+      e2 = max(err_before, epsilon(1.0_dp))
+      factor = kappa*e0**(-gains(1, controller)/q)*e1**(gains(2, controller)/q)* &
+         e2**(-gains(3, controller)/q)
+   end function controller_factor
+
+   !> Name of a controller as users type it ("i", "pi", "pid").
+   pure function controller_name(controller) result(name)
+      !> controller_i, controller_pi or controller_pid
+      integer, intent(in) :: controller
+      character(len=:), allocatable :: name
+      select case (controller)
+      case (controller_i); name = "i"
+      case (controller_pi); name = "pi"
+      case (controller_pid); name = "pid"
+      case default; name = "unknown"
+      end select
+   end function controller_name
+
+end module taylorode_integrate_controller

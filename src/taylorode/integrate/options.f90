@@ -1,0 +1,174 @@
+!> Options of the adaptive integrator, their defaults and their validation.
+module taylorode_integrate_options
+   use taylorode_base_kinds, only: dp, i8
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_size_mismatch
+   use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, default_kappa
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+   implicit none
+   private
+
+   public :: integrator_options_type, paper_options, validate_options
+   public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
+
+   !> err = max_i |delta_i| / w_i (the paper's)
+   integer, parameter :: norm_max = 1
+   !> err = sqrt(mean_i (delta_i / w_i)^2) (CVODE, ARKODE)
+   integer, parameter :: norm_rms = 2
+   !> Advance with the scheme the user chose
+   integer, parameter :: advance_scheme = 0
+   !> Advance with the higher-order member of the embedded pair
+   integer, parameter :: advance_high = 1
+   !> Advance with the lower-order member of the embedded pair
+   integer, parameter :: advance_low = 2
+
+   !> Settings of `integrate`. Weights: w_i = atol_i + rtol * max(|U_i^n|, |U_i^{n+1}|).
+   type :: integrator_options_type
+      !> Relative tolerance (>= 0)
+      real(dp) :: rtol = 1.0e-6_dp
+      !> Absolute tolerance for every component (>= 0; rtol and atol not both 0)
+      real(dp) :: atol = 1.0e-6_dp
+      !> Absolute tolerance per component; when allocated it replaces `atol`
+      real(dp), allocatable :: atol_vector(:)
+      !> norm_max or norm_rms
+      integer :: norm = norm_max
+      !> controller_i, controller_pi or controller_pid
+      integer :: controller = controller_i
+      !> Safety factor kappa in (0, 1]
+      real(dp) :: kappa = default_kappa
+      !> Order exponent q of the controller; 0 takes it from the scheme pair
+      !> (lower order + 1, which is 2 for every pair here)
+      real(dp) :: q = 0.0_dp
+      !> First step size; 0 chooses it from the initial data (h0 = 0.01 |U0|_w / |F(U0)|_w)
+      real(dp) :: h0 = 0.0_dp
+      !> Smallest step size allowed (0: only the roundoff limit of t applies)
+      real(dp) :: h_min = 0.0_dp
+      !> Largest step size allowed
+      real(dp) :: h_max = huge(1.0_dp)
+      !> Largest factor h_new / h after a step (0: no limit)
+      real(dp) :: max_growth = 5.0_dp
+      !> Smallest factor h_new / h after a step (0: no limit)
+      real(dp) :: min_shrink = 0.2_dp
+      !> Attempted steps allowed (accepted and rejected)
+      integer(i8) :: max_steps = 1000000_i8
+      !> Newton iterations allowed per nonlinear system
+      integer :: max_newton_iterations = 10
+      !> Keep factored Newton matrices across steps while h changes by at most 20 %
+      !> and Newton contracts fast (0.1 or better); off: one factorization per solve
+      logical :: reuse_newton_matrix = .true.
+      !> Newton stops when every increment is below this fraction of its weight w_i
+      real(dp) :: newton_fraction = 1.0e-4_dp
+      !> Consecutive failed attempts (Newton failure, NaN/Inf values) before giving up
+      integer :: max_failures = 10
+      !> advance_scheme, advance_high or advance_low
+      integer :: advance = advance_scheme
+      !> With a step history: also record the state after every attempt
+      logical :: history_states = .false.
+   end type integrator_options_type
+
+contains
+
+   !> The settings of the paper's Van der Pol experiment (METHODS.md section 5):
+   !> rtol 0, atol 1e-5, max norm, I controller, kappa 0.9, h0 1e-2, no h_max and no
+   !> growth or shrink limits. q is left to the scheme pair: 2 for every pair of the
+   !> paper (its setting), 4 for radau5.
+   pure function paper_options() result(options)
+      type(integrator_options_type) :: options
+      options%rtol = 0.0_dp
+      options%atol = 1.0e-5_dp
+      options%norm = norm_max
+      options%controller = controller_i
+      options%kappa = default_kappa
+      options%h0 = 1.0e-2_dp
+      options%h_max = huge(1.0_dp)
+      options%max_growth = 0.0_dp
+      options%min_shrink = 0.0_dp
+      options%max_steps = 100000000_i8
+   end function paper_options
+
+   !> Check every option for a system of n unknowns; stat says which one is wrong.
+   subroutine validate_options(options, n, stat)
+      !> Options to check
+      type(integrator_options_type), intent(in) :: options
+      !> Number of unknowns
+      integer, intent(in) :: n
+      !> status_invalid_argument or status_size_mismatch on failure
+      type(status_type), intent(inout) :: stat
+
+      logical :: atol_zero
+
+      if (options%rtol < 0.0_dp .or. ieee_is_nan(options%rtol)) then
+         call invalid("rtol must be >= 0 and not NaN"); return
+      end if
+      if (allocated(options%atol_vector)) then
+         if (size(options%atol_vector) /= n) then
+            call set_status(stat, status_size_mismatch, "options: atol_vector must have one entry per unknown")
+            return
+         end if
+         if (any(options%atol_vector < 0.0_dp) .or. any(ieee_is_nan(options%atol_vector))) then
+            call invalid("every atol_vector entry must be >= 0 and not NaN"); return
+         end if
+         atol_zero = any(options%atol_vector == 0.0_dp)
+      else
+         if (options%atol < 0.0_dp .or. ieee_is_nan(options%atol)) then
+            call invalid("atol must be >= 0 and not NaN"); return
+         end if
+         atol_zero = options%atol == 0.0_dp
+      end if
+      if (atol_zero .and. options%rtol == 0.0_dp) then
+         call invalid("rtol and atol cannot both be zero (tolerances must be positive)"); return
+      end if
+      if (options%norm /= norm_max .and. options%norm /= norm_rms) then
+         call invalid("norm must be norm_max or norm_rms"); return
+      end if
+      if (all(options%controller /= [controller_i, controller_pi, controller_pid])) then
+         call invalid("controller must be controller_i, controller_pi or controller_pid"); return
+      end if
+      if (.not. (options%kappa > 0.0_dp .and. options%kappa <= 1.0_dp)) then
+         call invalid("kappa must be in (0, 1]"); return
+      end if
+      if (.not. (options%q >= 0.0_dp)) then
+         call invalid("q must be > 0 (or 0 for the scheme's default)"); return
+      end if
+      if (.not. (options%h0 >= 0.0_dp)) then
+         call invalid("h0 must be > 0 (or 0 to choose it automatically)"); return
+      end if
+      if (.not. (options%h_min >= 0.0_dp)) then
+         call invalid("h_min must be >= 0"); return
+      end if
+      if (.not. (options%h_max > 0.0_dp) .or. options%h_max < options%h_min) then
+         call invalid("h_max must be > 0 and >= h_min"); return
+      end if
+      if (options%h0 > 0.0_dp .and. (options%h0 < options%h_min .or. options%h0 > options%h_max)) then
+         call invalid("h0 must lie in [h_min, h_max]"); return
+      end if
+      if (.not. (options%max_growth == 0.0_dp .or. options%max_growth > 1.0_dp)) then
+         call invalid("max_growth must be > 1 (or 0 for no limit)"); return
+      end if
+      if (.not. (options%min_shrink == 0.0_dp .or. (options%min_shrink > 0.0_dp .and. options%min_shrink < 1.0_dp))) then
+         call invalid("min_shrink must be in (0, 1) (or 0 for no limit)"); return
+      end if
+      if (options%max_steps < 1) then
+         call invalid("max_steps must be at least 1"); return
+      end if
+      if (options%max_newton_iterations < 1) then
+         call invalid("max_newton_iterations must be at least 1"); return
+      end if
+      if (.not. (options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp)) then
+         call invalid("newton_fraction must be in (0, 1)"); return
+      end if
+      if (options%max_failures < 1) then
+         call invalid("max_failures must be at least 1"); return
+      end if
+      if (all(options%advance /= [advance_scheme, advance_high, advance_low])) then
+         call invalid("advance must be advance_scheme, advance_high or advance_low"); return
+      end if
+      stat%code = status_ok
+   contains
+      subroutine invalid(message)
+         character(len=*), intent(in) :: message
+         call set_status(stat, status_invalid_argument, "options: "//message)
+      end subroutine invalid
+   end subroutine validate_options
+
+end module taylorode_integrate_options

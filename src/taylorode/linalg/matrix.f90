@@ -1,0 +1,412 @@
+!> Matrices of the Newton iterations: dense or banded storage behind one interface,
+!> so that a scheme writes its formulas once, and the structure a problem declares
+!> for its Jacobians.
+!>
+!> A banded matrix keeps LAPACK band storage with room for the LU fill-in. Sums
+!> into a dense matrix accept any storage; sums into a banded matrix accept banded
+!> operands whose bandwidths fit. Anything else is a storage mismatch, reported as
+!> a status, never silently skipped.
+module taylorode_linalg_matrix
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument
+   implicit none
+   private
+
+   public :: matrix_structure_type, dense_structure, band_structure, storage_dense, storage_band
+   public :: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, product_structure
+
+   !> Every entry stored (n x n)
+   integer, parameter :: storage_dense = 1
+   !> LAPACK band storage: only entries with i - j <= lower and j - i <= upper are kept
+   integer, parameter :: storage_band = 2
+
+   !> Where the nonzeros of a Jacobian (or a Newton matrix) can be
+   type :: matrix_structure_type
+      !> storage_dense or storage_band (room is left for a sparse storage)
+      integer :: storage = storage_dense
+      !> Lower and upper bandwidths (banded storage only): J(i, j) = 0 for
+      !> i - j > lower or j - i > upper
+      integer :: lower = 0, upper = 0
+   end type matrix_structure_type
+
+   !> An n x n matrix with the operations the schemes need
+   type, abstract :: matrix_type
+      !> Order
+      integer :: n = 0
+   contains
+      !> Storage and bandwidths
+      procedure(structure_interface), deferred :: structure
+      !> y = y + alpha A x
+      procedure(multiply_add_interface), deferred :: multiply_add
+      !> A = 0
+      procedure(zero_interface), deferred :: set_zero
+      !> A = A + alpha B
+      procedure(scaled_interface), deferred :: add_scaled
+      !> A = A + alpha B C
+      procedure(product_interface), deferred :: add_product
+      !> A = A + alpha I
+      procedure(identity_interface), deferred :: add_identity
+      !> A = alpha B
+      procedure, non_overridable :: set_scaled
+   end type matrix_type
+
+   !> Dense storage
+   type, extends(matrix_type) :: dense_matrix_type
+      !> Entries
+      real(dp), allocatable :: a(:, :)
+   contains
+      procedure :: structure => dense_structure_of
+      procedure :: multiply_add => dense_multiply_add
+      procedure :: set_zero => dense_set_zero
+      procedure :: add_scaled => dense_add_scaled
+      procedure :: add_product => dense_add_product
+      procedure :: add_identity => dense_add_identity
+   end type dense_matrix_type
+
+   !> LAPACK band storage: A(i, j) in ab(kl + ku + 1 + i - j, j) for
+   !> max(1, j - ku) <= i <= min(n, j + kl); the first kl rows hold the LU fill-in
+   type, extends(matrix_type) :: band_matrix_type
+      !> Lower and upper bandwidths
+      integer :: kl = 0, ku = 0
+      !> Band storage, (2 kl + ku + 1) x n
+      real(dp), allocatable :: ab(:, :)
+   contains
+      procedure :: structure => band_structure_of
+      procedure :: multiply_add => band_multiply_add
+      procedure :: set_zero => band_set_zero
+      procedure :: add_scaled => band_add_scaled
+      procedure :: add_product => band_add_product
+      procedure :: add_identity => band_add_identity
+   end type band_matrix_type
+
+   abstract interface
+      pure function structure_interface(self) result(structure)
+         import :: matrix_type, matrix_structure_type
+         class(matrix_type), intent(in) :: self
+         type(matrix_structure_type) :: structure
+      end function structure_interface
+      subroutine multiply_add_interface(self, alpha, x, y)
+         import :: matrix_type, dp
+         class(matrix_type), intent(in) :: self
+         real(dp), intent(in) :: alpha
+         real(dp), intent(in) :: x(:)
+         real(dp), intent(inout) :: y(:)
+      end subroutine multiply_add_interface
+      subroutine zero_interface(self)
+         import :: matrix_type
+         class(matrix_type), intent(inout) :: self
+      end subroutine zero_interface
+      subroutine scaled_interface(self, alpha, b, stat)
+         import :: matrix_type, dp, status_type
+         class(matrix_type), intent(inout) :: self
+         real(dp), intent(in) :: alpha
+         class(matrix_type), intent(in) :: b
+         type(status_type), intent(inout) :: stat
+      end subroutine scaled_interface
+      subroutine product_interface(self, alpha, b, c, stat)
+         import :: matrix_type, dp, status_type
+         class(matrix_type), intent(inout) :: self
+         real(dp), intent(in) :: alpha
+         class(matrix_type), intent(in) :: b, c
+         type(status_type), intent(inout) :: stat
+      end subroutine product_interface
+      subroutine identity_interface(self, alpha)
+         import :: matrix_type, dp
+         class(matrix_type), intent(inout) :: self
+         real(dp), intent(in) :: alpha
+      end subroutine identity_interface
+   end interface
+
+contains
+
+   !> Dense structure.
+   pure function dense_structure() result(structure)
+      type(matrix_structure_type) :: structure
+      structure%storage = storage_dense
+   end function dense_structure
+
+   !> Banded structure with lower and upper bandwidths (each >= 0).
+   pure function band_structure(lower, upper) result(structure)
+      !> Lower bandwidth: J(i, j) = 0 for i - j > lower
+      integer, intent(in) :: lower
+      !> Upper bandwidth: J(i, j) = 0 for j - i > upper
+      integer, intent(in) :: upper
+      type(matrix_structure_type) :: structure
+      structure%storage = storage_band
+      structure%lower = lower
+      structure%upper = upper
+   end function band_structure
+
+   !> Structure of a sum of products of matrices with structures a and b (bandwidths add).
+   pure function product_structure(a, b) result(structure)
+      !> Structures of the factors
+      type(matrix_structure_type), intent(in) :: a, b
+      type(matrix_structure_type) :: structure
+      if (a%storage == storage_band .and. b%storage == storage_band) then
+         structure = band_structure(a%lower + b%lower, a%upper + b%upper)
+      else
+         structure = dense_structure()
+      end if
+   end function product_structure
+
+   !> A zero n x n matrix with the given structure; bandwidths are clamped to n - 1,
+   !> and a structure that is not valid for n (negative bandwidths, unknown storage)
+   !> leaves `matrix` unallocated with status_invalid_argument.
+   subroutine new_matrix(matrix, n, structure, stat)
+      !> The new matrix
+      class(matrix_type), allocatable, intent(out) :: matrix
+      !> Order, >= 1
+      integer, intent(in) :: n
+      !> Storage and bandwidths
+      type(matrix_structure_type), intent(in) :: structure
+      !> status_invalid_argument for an impossible structure
+      type(status_type), intent(inout) :: stat
+      type(dense_matrix_type), allocatable :: dense
+      type(band_matrix_type), allocatable :: band
+
+      if (n < 1) then
+         call set_status(stat, status_invalid_argument, "matrix: the order must be at least 1")
+         return
+      end if
+      select case (structure%storage)
+      case (storage_dense)
+         allocate (dense)
+         dense%n = n
+         allocate (dense%a(n, n), source=0.0_dp)
+         call move_alloc(dense, matrix)
+      case (storage_band)
+         if (structure%lower < 0 .or. structure%upper < 0) then
+            call set_status(stat, status_invalid_argument, "matrix: bandwidths must be >= 0")
+            return
+         end if
+         allocate (band)
+         band%n = n
+         band%kl = min(structure%lower, n - 1)
+         band%ku = min(structure%upper, n - 1)
+         allocate (band%ab(2*band%kl + band%ku + 1, n), source=0.0_dp)
+         call move_alloc(band, matrix)
+      case default
+         call set_status(stat, status_invalid_argument, "matrix: unknown storage")
+      end select
+   end subroutine new_matrix
+
+   !> A = alpha B.
+   subroutine set_scaled(self, alpha, b, stat)
+      !> The matrix A
+      class(matrix_type), intent(inout) :: self
+      !> Factor
+      real(dp), intent(in) :: alpha
+      !> The matrix B
+      class(matrix_type), intent(in) :: b
+      !> status_invalid_argument on a storage mismatch
+      type(status_type), intent(inout) :: stat
+      call self%set_zero()
+      call self%add_scaled(alpha, b, stat)
+   end subroutine set_scaled
+
+   subroutine mismatch(stat, operation)
+      type(status_type), intent(inout) :: stat
+      character(len=*), intent(in) :: operation
+      if (stat%code == status_ok) call set_status(stat, status_invalid_argument, &
+         "matrix: "//operation//" of matrices whose storages do not fit")
+   end subroutine mismatch
+
+   pure function dense_structure_of(self) result(structure)
+      class(dense_matrix_type), intent(in) :: self
+      type(matrix_structure_type) :: structure
+      structure = dense_structure()
+   end function dense_structure_of
+
+   subroutine dense_multiply_add(self, alpha, x, y)
+      class(dense_matrix_type), intent(in) :: self
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(inout) :: y(:)
+      integer :: i, j
+      real(dp) :: ax
+      do j = 1, self%n
+         ax = alpha*x(j)
+         do i = 1, self%n
+            y(i) = y(i) + ax*self%a(i, j)
+         end do
+      end do
+   end subroutine dense_multiply_add
+
+   subroutine dense_set_zero(self)
+      class(dense_matrix_type), intent(inout) :: self
+      self%a = 0.0_dp
+   end subroutine dense_set_zero
+
+   subroutine dense_add_scaled(self, alpha, b, stat)
+      class(dense_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b
+      type(status_type), intent(inout) :: stat
+      integer :: i, j
+      if (b%n /= self%n) then
+         call mismatch(stat, "a sum")
+         return
+      end if
+      select type (b)
+      type is (dense_matrix_type)
+         do j = 1, self%n
+            do i = 1, self%n
+               self%a(i, j) = self%a(i, j) + alpha*b%a(i, j)
+            end do
+         end do
+      type is (band_matrix_type)
+         do j = 1, self%n
+            do i = max(1, j - b%ku), min(self%n, j + b%kl)
+               self%a(i, j) = self%a(i, j) + alpha*b%ab(b%kl + b%ku + 1 + i - j, j)
+            end do
+         end do
+      class default
+         call mismatch(stat, "a sum")
+      end select
+   end subroutine dense_add_scaled
+
+   !> A = A + alpha B C, column by column: (B C)(:, j) = sum_k B(:, k) C(k, j).
+   subroutine dense_add_product(self, alpha, b, c, stat)
+      class(dense_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b, c
+      type(status_type), intent(inout) :: stat
+      integer :: i, j, k
+      real(dp) :: ckj
+      if (b%n /= self%n .or. c%n /= self%n) then
+         call mismatch(stat, "a product")
+         return
+      end if
+      select type (b)
+      type is (dense_matrix_type)
+         select type (c)
+         type is (dense_matrix_type)
+            do j = 1, self%n
+               do k = 1, self%n
+                  ckj = alpha*c%a(k, j)
+                  do i = 1, self%n
+                     self%a(i, j) = self%a(i, j) + ckj*b%a(i, k)
+                  end do
+               end do
+            end do
+         class default
+            call mismatch(stat, "a product")
+         end select
+      class default
+         call mismatch(stat, "a product")
+      end select
+   end subroutine dense_add_product
+
+   subroutine dense_add_identity(self, alpha)
+      class(dense_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      integer :: i
+      do i = 1, self%n
+         self%a(i, i) = self%a(i, i) + alpha
+      end do
+   end subroutine dense_add_identity
+
+   pure function band_structure_of(self) result(structure)
+      class(band_matrix_type), intent(in) :: self
+      type(matrix_structure_type) :: structure
+      structure = band_structure(self%kl, self%ku)
+   end function band_structure_of
+
+   subroutine band_multiply_add(self, alpha, x, y)
+      class(band_matrix_type), intent(in) :: self
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(inout) :: y(:)
+      integer :: i, j, shift
+      real(dp) :: ax
+      shift = self%kl + self%ku + 1
+      do j = 1, self%n
+         ax = alpha*x(j)
+         do i = max(1, j - self%ku), min(self%n, j + self%kl)
+            y(i) = y(i) + ax*self%ab(shift + i - j, j)
+         end do
+      end do
+   end subroutine band_multiply_add
+
+   subroutine band_set_zero(self)
+      class(band_matrix_type), intent(inout) :: self
+      self%ab = 0.0_dp
+   end subroutine band_set_zero
+
+   subroutine band_add_scaled(self, alpha, b, stat)
+      class(band_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b
+      type(status_type), intent(inout) :: stat
+      integer :: i, j, shift, shift_b
+      if (b%n /= self%n) then
+         call mismatch(stat, "a sum")
+         return
+      end if
+      select type (b)
+      type is (band_matrix_type)
+         if (b%kl > self%kl .or. b%ku > self%ku) then
+            call mismatch(stat, "a sum")
+            return
+         end if
+         shift = self%kl + self%ku + 1
+         shift_b = b%kl + b%ku + 1
+         do j = 1, self%n
+            do i = max(1, j - b%ku), min(self%n, j + b%kl)
+               self%ab(shift + i - j, j) = self%ab(shift + i - j, j) + alpha*b%ab(shift_b + i - j, j)
+            end do
+         end do
+      class default
+         call mismatch(stat, "a sum")
+      end select
+   end subroutine band_add_scaled
+
+   !> A = A + alpha B C, column by column: (B C)(:, j) = sum_k B(:, k) C(k, j).
+   subroutine band_add_product(self, alpha, b, c, stat)
+      class(band_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b, c
+      type(status_type), intent(inout) :: stat
+      integer :: i, j, k, shift, shift_b, shift_c
+      real(dp) :: ckj
+      if (b%n /= self%n .or. c%n /= self%n) then
+         call mismatch(stat, "a product")
+         return
+      end if
+      select type (b)
+      type is (band_matrix_type)
+         select type (c)
+         type is (band_matrix_type)
+            if (b%kl + c%kl > self%kl .or. b%ku + c%ku > self%ku) then
+               call mismatch(stat, "a product")
+               return
+            end if
+            shift = self%kl + self%ku + 1
+            shift_b = b%kl + b%ku + 1
+            shift_c = c%kl + c%ku + 1
+            do j = 1, self%n
+               do k = max(1, j - c%ku), min(self%n, j + c%kl)
+                  ckj = alpha*c%ab(shift_c + k - j, j)
+                  do i = max(1, k - b%ku), min(self%n, k + b%kl)
+                     self%ab(shift + i - j, j) = self%ab(shift + i - j, j) + ckj*b%ab(shift_b + i - k, k)
+                  end do
+               end do
+            end do
+         class default
+            call mismatch(stat, "a product")
+         end select
+      class default
+         call mismatch(stat, "a product")
+      end select
+   end subroutine band_add_product
+
+   subroutine band_add_identity(self, alpha)
+      class(band_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      integer :: j
+      do j = 1, self%n
+         self%ab(self%kl + self%ku + 1, j) = self%ab(self%kl + self%ku + 1, j) + alpha
+      end do
+   end subroutine band_add_identity
+
+end module taylorode_linalg_matrix

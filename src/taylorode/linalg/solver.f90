@@ -1,0 +1,93 @@
+!> Linear solvers of the Newton iterations: a solver owns the matrix the caller
+!> assembles, factors it in place and solves with the factors as often as needed.
+!> The storage (dense or banded) comes from the structure the problem declares;
+!> `new_linear_solver` picks the matching LAPACK path.
+module taylorode_linalg_solver
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_singular_matrix
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
+      matrix_structure_type, new_matrix
+   use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve
+   implicit none
+   private
+
+   public :: linear_solver_type, new_linear_solver
+
+   !> LU factorization with partial pivoting of a matrix assembled in place
+   type :: linear_solver_type
+      !> The matrix: assembled by the caller, overwritten by its LU factors by `factor`
+      class(matrix_type), allocatable :: matrix
+      !> Row interchanges of the factorization
+      integer, allocatable :: pivots(:)
+      !> Whether `matrix` holds valid factors
+      logical :: factored = .false.
+   contains
+      !> Factor the assembled matrix in place
+      procedure :: factor
+      !> x = A^(-1) x with the factors
+      procedure :: solve
+   end type linear_solver_type
+
+contains
+
+   !> A solver for n x n matrices with the given structure (dense or banded).
+   subroutine new_linear_solver(solver, n, structure, stat)
+      !> The new solver; its matrix is zero
+      type(linear_solver_type), intent(out) :: solver
+      !> Order
+      integer, intent(in) :: n
+      !> Storage and bandwidths of the matrices to factor
+      type(matrix_structure_type), intent(in) :: structure
+      !> status_invalid_argument for an impossible structure
+      type(status_type), intent(inout) :: stat
+      call new_matrix(solver%matrix, n, structure, stat)
+      if (stat%code /= status_ok) return
+      allocate (solver%pivots(n))
+   end subroutine new_linear_solver
+
+   !> Factor the assembled matrix in place (dgetrf or dgbtrf).
+   subroutine factor(self, stat)
+      !> The solver
+      class(linear_solver_type), intent(inout) :: self
+      !> status_singular_matrix when a pivot is exactly zero
+      type(status_type), intent(inout) :: stat
+      integer :: info
+      select type (a => self%matrix)
+      type is (dense_matrix_type)
+         call lu_factor(a%a, self%pivots, info)
+      type is (band_matrix_type)
+         call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)
+      class default
+         info = -1
+      end select
+      self%factored = info == 0
+      if (info > 0) then
+         call set_status(stat, status_singular_matrix, "linear solver: the matrix is singular")
+      else if (info < 0) then
+         call set_status(stat, status_invalid_argument, "linear solver: the matrix storage is not supported")
+      end if
+   end subroutine factor
+
+   !> Solve A x = b with the factors; x holds b on entry.
+   subroutine solve(self, x, stat)
+      !> The solver, factored
+      class(linear_solver_type), intent(in) :: self
+      !> Right-hand side on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: x(:)
+      !> status_invalid_argument when there are no factors or x has the wrong size
+      type(status_type), intent(inout) :: stat
+      integer :: info
+      if (.not. self%factored .or. size(x) /= self%matrix%n) then
+         call set_status(stat, status_invalid_argument, "linear solver: no factors for a system of this size")
+         return
+      end if
+      select type (a => self%matrix)
+      type is (dense_matrix_type)
+         call lu_solve(a%a, self%pivots, x, info)
+      type is (band_matrix_type)
+         call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
+      end select
+   end subroutine solve
+
+end module taylorode_linalg_solver

@@ -1,0 +1,231 @@
+!> Newton's method as a component: a scheme describes each nonlinear system it
+!> solves (a residual and a Newton matrix, `nonlinear_system_type`) and holds one
+!> `newton_solver_type` per distinct Newton matrix. Everything a solve depends on
+!> (the step size, the tolerances, the iteration limit) comes in as arguments.
+module taylorode_newton_solver
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_newton_diverged, &
+      status_newton_not_converged, status_singular_matrix
+   use taylorode_base_counters, only: counters_type
+   use taylorode_linalg_matrix, only: matrix_type, matrix_structure_type
+   use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
+   use taylorode_problem_ode, only: ode_problem
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   implicit none
+   private
+
+   public :: newton_settings_type, newton_solver_type, nonlinear_system_type
+   public :: default_newton_tolerance, default_max_newton_iterations
+
+   !> Newton increment tolerance, relative to 1 + |U0|, when the caller gives none
+   real(dp), parameter :: default_newton_tolerance = 1.0e-13_dp
+   !> Newton iterations allowed for one nonlinear system before the step fails
+   integer, parameter :: default_max_newton_iterations = 10
+   !> Contraction factor above which the Newton matrix is rebuilt at the current iterate
+   real(dp), parameter :: refresh_contraction = 0.25_dp
+   !> Contraction factor (after a rebuild) at which the iteration is declared divergent
+   real(dp), parameter :: divergence_contraction = 2.0_dp
+   !> A factored Newton matrix serves a later step while h differs by at most this
+   !> fraction from the h it was built with ...
+   real(dp), parameter :: reuse_step_change = 0.2_dp
+   !> ... and its last solve contracted at least this fast
+   real(dp), parameter :: reuse_contraction = 0.1_dp
+
+   !> How a step's nonlinear systems are to be solved
+   type :: newton_settings_type
+      !> Absolute tolerance on each component of a Newton increment (size of the state;
+      !> a system that stacks several copies of the state uses it for each copy)
+      real(dp), allocatable :: tolerance(:)
+      !> Iterations allowed per nonlinear system
+      integer :: max_iterations = default_max_newton_iterations
+      !> Keep a factored Newton matrix across steps while h changes by at most 20 % and
+      !> the last solve contracted by 0.1 or better (off: one factorization per solve)
+      logical :: reuse_matrix = .true.
+   end type newton_settings_type
+
+   !> A nonlinear system r(u) = 0 of a scheme, with the data of the current step
+   type, abstract :: nonlinear_system_type
+   contains
+      !> Residual r(u)
+      procedure(residual_interface), deferred :: residual
+      !> Newton matrix (approximate dr/du) at u, assembled into `matrix`
+      procedure(newton_matrix_interface), deferred :: newton_matrix
+   end type nonlinear_system_type
+
+   !> Newton's method with one Newton matrix, its factors and what they were built for
+   type :: newton_solver_type
+      !> The Newton matrix and its factors
+      type(linear_solver_type) :: linear
+      !> Step size the factored matrix was built with
+      real(dp) :: h_built = 0.0_dp
+      !> Contraction of the last solve with these factors
+      real(dp) :: contraction = 1.0_dp
+      !> Contraction factor of the last two increments of the last solve (0 when it
+      !> converged in one iteration)
+      real(dp) :: last_contraction = 0.0_dp
+      !> Residual, then the Newton increment
+      real(dp), allocatable :: increment(:)
+   contains
+      !> Allocate for systems of size m with a Newton matrix of the given structure
+      procedure :: init
+      !> Solve a system from the guess in u
+      procedure :: solve
+      !> Forget the factors (a new integration or a new problem)
+      procedure :: forget
+   end type newton_solver_type
+
+   abstract interface
+      !> Residual r(u) of the system for the current step.
+      subroutine residual_interface(self, problem, u, r, counters)
+         import :: nonlinear_system_type, ode_problem, dp, counters_type
+         !> The system (holds the data of the current step)
+         class(nonlinear_system_type), intent(inout) :: self
+         !> The problem
+         class(ode_problem), intent(inout) :: problem
+         !> Current iterate
+         real(dp), intent(in) :: u(:)
+         !> Residual at u
+         real(dp), intent(out) :: r(:)
+         !> Evaluations are counted here
+         type(counters_type), intent(inout) :: counters
+      end subroutine residual_interface
+
+      !> Newton matrix at u. Newton calls it only right after `residual` at the same u,
+      !> so values computed there may be reused.
+      subroutine newton_matrix_interface(self, problem, u, matrix, counters, stat)
+         import :: nonlinear_system_type, ode_problem, dp, matrix_type, counters_type, status_type
+         !> The system
+         class(nonlinear_system_type), intent(inout) :: self
+         !> The problem
+         class(ode_problem), intent(inout) :: problem
+         !> Current iterate
+         real(dp), intent(in) :: u(:)
+         !> The matrix to assemble
+         class(matrix_type), intent(inout) :: matrix
+         !> Evaluations are counted here
+         type(counters_type), intent(inout) :: counters
+         !> Storage mismatches of the assembly
+         type(status_type), intent(inout) :: stat
+      end subroutine newton_matrix_interface
+   end interface
+
+contains
+
+   !> Allocate for systems of m unknowns whose Newton matrix has the given structure.
+   subroutine init(self, m, structure, stat)
+      !> The solver
+      class(newton_solver_type), intent(inout) :: self
+      !> Unknowns of the system
+      integer, intent(in) :: m
+      !> Storage and bandwidths of the Newton matrix
+      type(matrix_structure_type), intent(in) :: structure
+      !> status_invalid_argument for an impossible structure
+      type(status_type), intent(inout) :: stat
+      call new_linear_solver(self%linear, m, structure, stat)
+      if (allocated(self%increment)) deallocate (self%increment)
+      allocate (self%increment(m))
+      self%contraction = 1.0_dp
+   end subroutine init
+
+   !> Forget the factored matrix.
+   elemental subroutine forget(self)
+      !> The solver
+      class(newton_solver_type), intent(inout) :: self
+      self%linear%factored = .false.
+   end subroutine forget
+
+   !> Newton's method for system%residual(u) = 0 from the guess in u. The matrix is
+   !> built and factored at the first iterate, or kept from an earlier solve while h
+   !> changed by at most 20 % and that solve contracted by 0.1 or better; it is
+   !> rebuilt at the current iterate whenever the iteration contracts poorly or too
+   !> slowly to converge within the iteration limit. Each iteration costs one
+   !> residual and one LU solve. Converged when every |increment_i| <= tolerance_i.
+   subroutine solve(self, system, problem, h, settings, u, counters, stat)
+      !> The solver
+      class(newton_solver_type), intent(inout) :: self
+      !> The system to solve, set up for the current step
+      class(nonlinear_system_type), intent(inout) :: system
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Step size the system belongs to (decides whether kept factors still serve)
+      real(dp), intent(in) :: h
+      !> Tolerance, iteration limit and reuse policy
+      type(newton_settings_type), intent(in) :: settings
+      !> Initial guess on entry, solution on exit
+      real(dp), intent(inout) :: u(:)
+      !> Evaluations, factorizations, solves and iterations are counted here
+      type(counters_type), intent(inout) :: counters
+      !> Status: singular matrix, divergence or no convergence
+      type(status_type), intent(inout) :: stat
+
+      integer :: iteration, least_iterations, i, n
+      logical :: rebuild, rebuilt
+      real(dp) :: size_now, size_before, contraction
+
+      n = size(settings%tolerance)
+      rebuild = .not. (settings%reuse_matrix .and. self%linear%factored .and. &
+         abs(h - self%h_built) <= reuse_step_change*self%h_built .and. &
+         self%contraction <= reuse_contraction)
+      ! with a kept matrix one small increment says little about the error left:
+      ! a second iteration measures the contraction
+      least_iterations = merge(1, 2, rebuild)
+      size_before = huge(1.0_dp)
+      self%last_contraction = 0.0_dp
+      do iteration = 1, settings%max_iterations
+         call system%residual(problem, u, self%increment, counters)
+         counters%newton_iterations = counters%newton_iterations + 1
+         rebuilt = rebuild
+         if (rebuild) then
+            call self%linear%matrix%set_zero()
+            call system%newton_matrix(problem, u, self%linear%matrix, counters, stat)
+            if (stat%code /= status_ok) return
+            call self%linear%factor(stat)
+            counters%lu_factorizations = counters%lu_factorizations + 1
+            self%h_built = h
+            if (stat%code == status_singular_matrix) then
+               call set_status(stat, status_singular_matrix, &
+                  "Newton: the iteration matrix is singular (reduce the step size)")
+               return
+            end if
+            if (stat%code /= status_ok) return
+            rebuild = .false.
+         end if
+         self%increment = -self%increment
+         call self%linear%solve(self%increment, stat)
+         counters%linear_solves = counters%linear_solves + 1
+         if (stat%code /= status_ok) return
+         u = u + self%increment
+         if (.not. all(ieee_is_finite(u))) then
+            self%linear%factored = .false.
+            call set_status(stat, status_newton_diverged, "Newton: the iterate became NaN or Inf")
+            return
+         end if
+         size_now = 0.0_dp
+         do i = 1, size(u)
+            size_now = max(size_now, abs(self%increment(i))/settings%tolerance(mod(i - 1, n) + 1))
+         end do
+         contraction = size_now/size_before
+         if (iteration > 1) self%last_contraction = contraction
+         if (size_now <= 1.0_dp .and. iteration >= least_iterations) then
+            self%contraction = self%last_contraction
+            return
+         end if
+         if (contraction >= divergence_contraction .and. rebuilt) then
+            self%linear%factored = .false.
+            call set_status(stat, status_newton_diverged, "Newton: the iteration diverged")
+            return
+         end if
+         ! rebuild on poor contraction, or when at this rate the iteration limit
+         ! would come before convergence
+         if (contraction > refresh_contraction) rebuild = .true.
+         if (iteration > 1 .and. contraction < 1.0_dp) then
+            if (size_now*contraction**(settings%max_iterations - iteration)/(1.0_dp - contraction) &
+               > 1.0_dp) rebuild = .true.
+         end if
+         size_before = size_now
+      end do
+      self%linear%factored = .false.
+      call set_status(stat, status_newton_not_converged, "Newton: no convergence within the iteration limit")
+   end subroutine solve
+
+end module taylorode_newton_solver

@@ -1,0 +1,104 @@
+!> Explicit Taylor schemes EX-T-1 and EX-T-2 (METHODS.md section 1), an embedded pair.
+!>
+!>   ex-t-1:  U1 = U0 + h F0
+!>   ex-t-2:  U1 = U0 + h F0 + h^2/2 J0 F0,      delta = h^2/2 J0 F0
+module taylorode_schemes_explicit_taylor
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_nonfinite
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix
+   use taylorode_problem_ode, only: ode_problem
+   use taylorode_newton_solver, only: newton_settings_type
+   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   implicit none
+   private
+
+   public :: explicit_taylor_type, new_explicit_taylor
+
+   !> EX-T-1 (order 1) or EX-T-2 (order 2); the other member gives the error estimate
+   type, extends(scheme_type) :: explicit_taylor_type
+      !> f(U0), g(U0) and F0 = f(U0) + g(U0)
+      real(dp), allocatable :: f0(:), g0(:), rhs0(:)
+      !> h^2/2 J0 F0, the second-order term
+      real(dp), allocatable :: taylor2(:)
+      !> Jacobians at U0
+      class(matrix_type), allocatable :: jac_f0, jac_g0
+   contains
+      procedure :: advance => explicit_taylor_advance
+      procedure :: prepare => explicit_taylor_prepare
+      procedure :: stability => explicit_taylor_stability
+   end type explicit_taylor_type
+
+contains
+
+   !> EX-T-1 (order = 1) or EX-T-2 (order = 2).
+   function new_explicit_taylor(order) result(self)
+      !> 1 or 2
+      integer, intent(in) :: order
+      type(explicit_taylor_type) :: self
+      self%order = order
+      self%embedded_order = 3 - order
+      self%nonlinear_order = order
+      self%implicit = .false.
+      self%newton_matrices = ""
+      if (order == 1) then
+         self%name = "ex-t-1"
+         self%update = "U1 = U0 + h F0"
+      else
+         self%name = "ex-t-2"
+         self%update = "U1 = U0 + h F0 + h^2/2 J0 F0"
+      end if
+   end function new_explicit_taylor
+
+   !> R = 1 + s (ex-t-1) or 1 + s + s^2/2 (ex-t-2), s = z + w.
+   pure function explicit_taylor_stability(self, z, w) result(r)
+      class(explicit_taylor_type), intent(in) :: self
+      complex(dp), intent(in) :: z, w
+      complex(dp) :: r
+      r = 1.0_dp + (z + w)
+      if (self%order == 2) r = r + (z + w)**2/2.0_dp
+   end function explicit_taylor_stability
+
+   subroutine explicit_taylor_prepare(self, problem, n, stat)
+      class(explicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
+      integer, intent(in) :: n
+      type(status_type), intent(inout) :: stat
+      if (.not. self%resize(problem, n)) return
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%taylor2)
+      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%taylor2(n))
+      call new_matrix(self%jac_f0, n, self%structure, stat)
+      call new_matrix(self%jac_g0, n, self%structure, stat)
+      if (stat%code /= status_ok) self%n = 0
+   end subroutine explicit_taylor_prepare
+
+   subroutine explicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+      class(explicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:)
+      real(dp), intent(out) :: u1(:)
+      type(newton_settings_type), intent(in) :: newton
+      type(status_type), intent(inout) :: stat
+      real(dp), intent(out), optional :: delta(:)
+
+      call evaluate_f(problem, t, u0, self%f0, self%counters)
+      call evaluate_g(problem, t, u0, self%g0, self%counters)
+      self%rhs0 = self%f0 + self%g0
+      if (.not. all(ieee_is_finite(self%rhs0))) then
+         call set_status(stat, status_nonfinite, self%name//": f or g returned NaN or Inf")
+         return
+      end if
+      u1 = u0 + h*self%rhs0
+      if (self%order == 1 .and. .not. present(delta)) return
+
+      call evaluate_jac_f(problem, t, u0, self%jac_f0, self%counters)
+      call evaluate_jac_g(problem, t, u0, self%jac_g0, self%counters)
+      self%taylor2 = 0.0_dp
+      call self%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
+      call self%jac_g0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
+      if (self%order == 2) u1 = u1 + self%taylor2
+      if (present(delta)) delta = self%taylor2
+   end subroutine explicit_taylor_advance
+
+end module taylorode_schemes_explicit_taylor

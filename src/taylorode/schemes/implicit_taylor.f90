@@ -1,0 +1,183 @@
+!> Implicit Taylor schemes I-T-1 and I-T-2 (METHODS.md section 1), an embedded pair.
+!>
+!>   i-t-1:  U1 = U0 + h F(U1)                               Newton matrix I - h J(U1)
+!>   i-t-2:  U1 = U0 + h F(U1) - h^2/2 J(U1) F(U1)           Newton matrix I - h J + h^2/2 J^2
+!>
+!> The i-t-2 matrix omits the second derivatives of F: Newton converges to the
+!> same U1, only its rate changes.
+module taylorode_schemes_implicit_taylor
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_counters, only: counters_type
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
+   use taylorode_problem_ode, only: ode_problem
+   use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
+   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   implicit none
+   private
+
+   public :: implicit_taylor_type, new_implicit_taylor
+
+   !> The equation of one member: r(U) = U - U0 - h F(U) [+ h^2/2 J(U) F(U) for order 2]
+   type, extends(nonlinear_system_type) :: implicit_taylor_system_type
+      !> Member (1 or 2)
+      integer :: order = 1
+      !> End of the step and step size
+      real(dp) :: t1 = 0.0_dp, h = 0.0_dp
+      !> State at the start of the step
+      real(dp), allocatable :: u0(:)
+      !> f, g and F = f + g at the current iterate
+      real(dp), allocatable :: f1(:), g1(:), rhs1(:)
+      !> Jacobians at the current iterate (jac1 = J_f + J_g)
+      class(matrix_type), allocatable :: jac_g1, jac1
+   contains
+      procedure :: residual => implicit_taylor_residual
+      procedure :: newton_matrix => implicit_taylor_matrix
+   end type implicit_taylor_system_type
+
+   !> I-T-1 (order 1) or I-T-2 (order 2); the other member gives the error estimate
+   type, extends(scheme_type) :: implicit_taylor_type
+      !> The equation being solved
+      type(implicit_taylor_system_type) :: system
+      !> Newton's method for each member (by order), each with its own matrix
+      type(newton_solver_type) :: newton(2)
+   contains
+      procedure :: advance => implicit_taylor_advance
+      procedure :: prepare => implicit_taylor_prepare
+      procedure :: restart => implicit_taylor_restart
+      procedure :: stability => implicit_taylor_stability
+   end type implicit_taylor_type
+
+contains
+
+   !> I-T-1 (order = 1) or I-T-2 (order = 2).
+   function new_implicit_taylor(order) result(self)
+      !> 1 or 2
+      integer, intent(in) :: order
+      type(implicit_taylor_type) :: self
+      self%order = order
+      self%embedded_order = 3 - order
+      self%nonlinear_order = order
+      self%implicit = .true.
+      if (order == 1) then
+         self%name = "i-t-1"
+         self%update = "U1 = U0 + h F(U1)"
+         self%newton_matrices = "I - h J(U1)"
+      else
+         self%name = "i-t-2"
+         self%update = "U1 = U0 + h F(U1) - h^2/2 J(U1) F(U1)"
+         self%newton_matrices = "I - h J(U1) + h^2/2 J(U1)^2"
+      end if
+   end function new_implicit_taylor
+
+   !> R = 1/(1 - s) (i-t-1) or 1/(1 - s (1 - s/2)) (i-t-2), s = z + w.
+   pure function implicit_taylor_stability(self, z, w) result(r)
+      class(implicit_taylor_type), intent(in) :: self
+      complex(dp), intent(in) :: z, w
+      complex(dp) :: r, s
+      s = z + w
+      if (self%order == 1) then
+         r = 1.0_dp/(1.0_dp - s)
+      else
+         r = 1.0_dp/(1.0_dp - s*(1.0_dp - s/2.0_dp))
+      end if
+   end function implicit_taylor_stability
+
+   !> Work arrays; the i-t-2 Newton matrix holds J^2 and gets the bandwidths of a product.
+   subroutine implicit_taylor_prepare(self, problem, n, stat)
+      class(implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
+      integer, intent(in) :: n
+      type(status_type), intent(inout) :: stat
+      if (.not. self%resize(problem, n)) return
+      call self%newton(1)%init(n, self%structure, stat)
+      call self%newton(2)%init(n, product_structure(self%structure, self%structure), stat)
+      associate (system => self%system)
+         if (allocated(system%u0)) deallocate (system%u0, system%f1, system%g1, system%rhs1)
+         allocate (system%u0(n), system%f1(n), system%g1(n), system%rhs1(n))
+         call new_matrix(system%jac_g1, n, self%structure, stat)
+         call new_matrix(system%jac1, n, self%structure, stat)
+      end associate
+      if (stat%code /= status_ok) self%n = 0
+   end subroutine implicit_taylor_prepare
+
+   subroutine implicit_taylor_restart(self)
+      class(implicit_taylor_type), intent(inout) :: self
+      call self%newton%forget()
+   end subroutine implicit_taylor_restart
+
+   subroutine implicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+      class(implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:)
+      real(dp), intent(out) :: u1(:)
+      type(newton_settings_type), intent(in) :: newton
+      type(status_type), intent(inout) :: stat
+      real(dp), intent(out), optional :: delta(:)
+
+      self%system%t1 = t + h
+      self%system%h = h
+      self%system%u0 = u0
+      self%system%order = self%order
+      u1 = u0
+      call self%newton(self%order)%solve(self%system, problem, h, newton, u1, self%counters, stat)
+      if (stat%code /= status_ok .or. .not. present(delta)) return
+
+      self%system%order = self%embedded_order
+      delta = u1
+      call self%newton(self%embedded_order)%solve(self%system, problem, h, newton, delta, self%counters, stat)
+      if (stat%code /= status_ok) return
+      if (self%order == 2) then
+         delta = u1 - delta
+      else
+         delta = delta - u1
+      end if
+   end subroutine implicit_taylor_advance
+
+   !> r(U) = U - U0 - h F(U) [+ h^2/2 J(U) F(U) for order 2]; keeps J(U) for the matrix.
+   subroutine implicit_taylor_residual(self, problem, u, r, counters)
+      class(implicit_taylor_system_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: r(:)
+      type(counters_type), intent(inout) :: counters
+
+      call evaluate_f(problem, self%t1, u, self%f1, counters)
+      call evaluate_g(problem, self%t1, u, self%g1, counters)
+      self%rhs1 = self%f1 + self%g1
+      r = u - self%u0 - self%h*self%rhs1
+      if (self%order == 2) then
+         call jacobian_at(self, problem, u, counters)
+         call self%jac1%multiply_add(0.5_dp*self%h*self%h, self%rhs1, r)
+      end if
+   end subroutine implicit_taylor_residual
+
+   !> I - h J(U) [+ h^2/2 J(U)^2 for order 2], J(U) reused from the residual for order 2.
+   subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
+      class(implicit_taylor_system_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u(:)
+      class(matrix_type), intent(inout) :: matrix
+      type(counters_type), intent(inout) :: counters
+      type(status_type), intent(inout) :: stat
+
+      if (self%order /= 2) call jacobian_at(self, problem, u, counters)
+      call matrix%add_scaled(-self%h, self%jac1, stat)
+      if (self%order == 2) call matrix%add_product(0.5_dp*self%h*self%h, self%jac1, self%jac1, stat)
+      call matrix%add_identity(1.0_dp)
+   end subroutine implicit_taylor_matrix
+
+   !> jac1 = J_f(u) + J_g(u)
+   subroutine jacobian_at(self, problem, u, counters)
+      class(implicit_taylor_system_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u(:)
+      type(counters_type), intent(inout) :: counters
+      type(status_type) :: stat
+      call evaluate_jac_f(problem, self%t1, u, self%jac1, counters)
+      call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+      call self%jac1%add_scaled(1.0_dp, self%jac_g1, stat)
+   end subroutine jacobian_at
+
+end module taylorode_schemes_implicit_taylor

@@ -1,0 +1,308 @@
+!> The abstract one-step scheme and the counted evaluations every scheme uses.
+!>
+!> A scheme advances U0 at t by one step h to U1 and, when asked, also returns
+!> delta = U_high - U_low, the difference between the two members of its embedded
+!> pair computed from the same U0 (the adaptive integrator's error estimate). A
+!> scheme describes itself: its name, the orders of its pair, whether it solves
+!> nonlinear systems and which, its update formula and its stability function
+!> R(z, w) on the linear test u' = lambda u + nu u (z = h lambda from f, w = h nu
+!> from g). Schemes keep their work arrays between steps: after the first step of
+!> a given size no step allocates.
+module taylorode_schemes_scheme
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_size_mismatch, status_nonfinite
+   use taylorode_base_counters, only: counters_type
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
+      matrix_structure_type
+   use taylorode_problem_ode, only: ode_problem
+   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   implicit none
+   private
+
+   public :: scheme_type, default_newton_settings
+   public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
+
+   !> Abstract one-step scheme
+   type, abstract :: scheme_type
+      !> Name as users type it (e.g. "i-t-2")
+      character(len=:), allocatable :: name
+      !> Order of the member that advances the solution
+      integer :: order = 0
+      !> Order of the other member of the embedded pair
+      integer :: embedded_order = 0
+      !> Order observed on nonlinear problems (below `order` only for the paper's
+      !> SI-T-2, second order on the linear test equation only)
+      integer :: nonlinear_order = 0
+      !> Whether a step solves nonlinear systems (Newton's method)
+      logical :: implicit = .false.
+      !> The update, as METHODS.md writes it
+      character(len=:), allocatable :: update
+      !> The Newton matrices a step factors ("" for an explicit scheme)
+      character(len=:), allocatable :: newton_matrices
+      !> Work done so far
+      type(counters_type) :: counters
+      !> Size the work arrays are prepared for (0: none yet)
+      integer :: n = 0
+      !> Jacobian structure the work arrays are prepared for
+      type(matrix_structure_type) :: structure
+   contains
+      !> One step with argument checks (sizes, h > 0, finite data)
+      procedure, non_overridable :: take_step
+      !> One step without checks: the drivers call it after checking once
+      procedure(advance_interface), deferred :: advance
+      !> Allocate work arrays for the problem's structure and n unknowns
+      procedure(prepare_interface), deferred :: prepare
+      !> Stability function R(z, w) on the linear test equation
+      procedure(stability_interface), deferred :: stability
+      !> Forget what is kept from earlier steps (a new integration or a new problem)
+      procedure :: restart
+      !> Record the size and structure to prepare for; false when unchanged
+      procedure, non_overridable :: resize
+   end type scheme_type
+
+   abstract interface
+      !> Advance u0 at t by one step h to u1 (and the embedded difference in delta).
+      subroutine advance_interface(self, problem, t, h, u0, u1, newton, stat, delta)
+         import :: scheme_type, ode_problem, dp, status_type, newton_settings_type
+         !> The scheme
+         class(scheme_type), intent(inout) :: self
+         !> The problem
+         class(ode_problem), intent(inout) :: problem
+         !> Start of the step
+         real(dp), intent(in) :: t
+         !> Step size
+         real(dp), intent(in) :: h
+         !> State at t
+         real(dp), intent(in) :: u0(:)
+         !> State at t + h
+         real(dp), intent(out) :: u1(:)
+         !> Newton tolerances, iteration limit and reuse policy (implicit schemes)
+         type(newton_settings_type), intent(in) :: newton
+         !> Status: Newton failures of the step
+         type(status_type), intent(inout) :: stat
+         !> Difference of the embedded pair, computed only when present
+         real(dp), intent(out), optional :: delta(:)
+      end subroutine advance_interface
+
+      !> Allocate work arrays (dense or banded as the problem declares) for size n.
+      subroutine prepare_interface(self, problem, n, stat)
+         import :: scheme_type, ode_problem, status_type
+         !> The scheme
+         class(scheme_type), intent(inout) :: self
+         !> The problem (its Jacobian structure decides the storage)
+         class(ode_problem), intent(in) :: problem
+         !> Number of unknowns
+         integer, intent(in) :: n
+         !> status_invalid_argument for a structure that does not fit n
+         type(status_type), intent(inout) :: stat
+      end subroutine prepare_interface
+
+      !> R(z, w): one step from u0 = 1 of u' = lambda u + nu u, z = h lambda (f), w = h nu (g).
+      pure function stability_interface(self, z, w) result(r)
+         import :: scheme_type, dp
+         !> The scheme
+         class(scheme_type), intent(in) :: self
+         !> h lambda (non-stiff part)
+         complex(dp), intent(in) :: z
+         !> h nu (stiff part)
+         complex(dp), intent(in) :: w
+         complex(dp) :: r
+      end function stability_interface
+   end interface
+
+contains
+
+   !> One step of the scheme after checking its arguments: sizes agree, h > 0 and
+   !> finite, u0 finite. On any failure stat says why and u1 is set to u0. Each call
+   !> is a fresh step: nothing kept from earlier steps (factored Newton matrices) is
+   !> used, and Newton iterates to default_newton_tolerance * (1 + |u0|).
+   subroutine take_step(self, problem, t, h, u0, u1, stat, delta)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Start of the step
+      real(dp), intent(in) :: t
+      !> Step size, > 0
+      real(dp), intent(in) :: h
+      !> State at t
+      real(dp), intent(in) :: u0(:)
+      !> State at t + h
+      real(dp), intent(out) :: u1(:)
+      !> Status of the step
+      type(status_type), intent(out) :: stat
+      !> Difference of the embedded pair U_high - U_low, computed only when present
+      real(dp), intent(out), optional :: delta(:)
+      type(newton_settings_type) :: newton
+
+      if (size(u1) /= size(u0)) then
+         call set_status(stat, status_size_mismatch, "take_step: u1 has a different size from u0")
+         return
+      end if
+      u1 = u0
+      if (present(delta)) then
+         if (size(delta) /= size(u0)) then
+            call set_status(stat, status_size_mismatch, "take_step: delta has a different size from u0")
+            return
+         end if
+         delta = 0.0_dp
+      end if
+      if (size(u0) < 1) then
+         call set_status(stat, status_size_mismatch, "take_step: the state is empty")
+         return
+      end if
+      if (.not. (h > 0.0_dp) .or. .not. ieee_is_finite(h)) then
+         call set_status(stat, status_invalid_argument, "take_step: the step size h must be positive and finite")
+         return
+      end if
+      if (.not. ieee_is_finite(t)) then
+         call set_status(stat, status_invalid_argument, "take_step: t is not finite")
+         return
+      end if
+      if (.not. all(ieee_is_finite(u0))) then
+         call set_status(stat, status_nonfinite, "take_step: the state u0 contains NaN or Inf")
+         return
+      end if
+      call self%prepare(problem, size(u0), stat)
+      if (stat%code /= status_ok) return
+      call self%restart()
+      call default_newton_settings(u0, newton)
+      call self%advance(problem, t, h, u0, u1, newton, stat, delta)
+      if (stat%code == status_ok .and. .not. all(ieee_is_finite(u1))) then
+         call set_status(stat, status_nonfinite, "take_step: the new state contains NaN or Inf")
+      end if
+   end subroutine take_step
+
+   !> Newton settings of a step taken without an integrator: increments below
+   !> default_newton_tolerance * (1 + |u0|), default iteration limit, matrices kept.
+   pure subroutine default_newton_settings(u0, newton)
+      !> State at the start of the step
+      real(dp), intent(in) :: u0(:)
+      !> The settings; the tolerance is (re)allocated only when its size changes
+      type(newton_settings_type), intent(inout) :: newton
+      if (allocated(newton%tolerance)) then
+         if (size(newton%tolerance) /= size(u0)) deallocate (newton%tolerance)
+      end if
+      if (.not. allocated(newton%tolerance)) allocate (newton%tolerance(size(u0)))
+      newton%tolerance = default_newton_tolerance*(1.0_dp + abs(u0))
+   end subroutine default_newton_settings
+
+   !> Forget what is kept from earlier steps; the explicit schemes keep nothing.
+   subroutine restart(self)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+   end subroutine restart
+
+   !> Record size n and the problem's Jacobian structure; true when they differ from
+   !> what the work arrays were prepared for (the caller then reallocates).
+   logical function resize(self, problem, n)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(in) :: problem
+      !> Number of unknowns
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      structure = problem%jacobian_structure(n)
+      resize = .not. (self%n == n .and. self%structure%storage == structure%storage .and. &
+         self%structure%lower == structure%lower .and. self%structure%upper == structure%upper)
+      self%n = n
+      self%structure = structure
+   end function resize
+
+   !> Counted evaluation of f.
+   subroutine evaluate_f(problem, t, u, value, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> f(t, u)
+      real(dp), intent(out) :: value(:)
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      call problem%f(t, u, value)
+      counters%f_evaluations = counters%f_evaluations + 1
+   end subroutine evaluate_f
+
+   !> Counted evaluation of g.
+   subroutine evaluate_g(problem, t, u, value, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> g(t, u)
+      real(dp), intent(out) :: value(:)
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      call problem%g(t, u, value)
+      counters%g_evaluations = counters%g_evaluations + 1
+   end subroutine evaluate_g
+
+   !> Counted evaluation of F = f + g, with `scratch` (size of u) as work space.
+   subroutine evaluate_rhs(problem, t, u, value, scratch, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> F(t, u)
+      real(dp), intent(out) :: value(:)
+      !> Work space, overwritten
+      real(dp), intent(out) :: scratch(:)
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      call evaluate_f(problem, t, u, value, counters)
+      call evaluate_g(problem, t, u, scratch, counters)
+      value = value + scratch
+   end subroutine evaluate_rhs
+
+   !> Counted evaluation of df/dU, dense or in band storage.
+   subroutine evaluate_jac_f(problem, t, u, jac, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> df/dU at (t, u), in the storage the problem declared
+      class(matrix_type), intent(inout) :: jac
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      select type (jac)
+      type is (dense_matrix_type)
+         call problem%jac_f(t, u, jac%a)
+      type is (band_matrix_type)
+         call problem%jac_f_band(t, u, jac%ab(jac%kl + 1:, :))
+      end select
+      counters%jac_f_evaluations = counters%jac_f_evaluations + 1
+   end subroutine evaluate_jac_f
+
+   !> Counted evaluation of dg/dU, dense or in band storage.
+   subroutine evaluate_jac_g(problem, t, u, jac, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> dg/dU at (t, u), in the storage the problem declared
+      class(matrix_type), intent(inout) :: jac
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      select type (jac)
+      type is (dense_matrix_type)
+         call problem%jac_g(t, u, jac%a)
+      type is (band_matrix_type)
+         call problem%jac_g_band(t, u, jac%ab(jac%kl + 1:, :))
+      end select
+      counters%jac_g_evaluations = counters%jac_g_evaluations + 1
+   end subroutine evaluate_jac_g
+
+end module taylorode_schemes_scheme

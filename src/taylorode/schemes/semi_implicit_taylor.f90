@@ -1,0 +1,247 @@
+!> Semi-implicit Taylor schemes (METHODS.md section 1): g implicit, f explicit.
+!>
+!>   si-t-1:        U1 = U0 + h (f0 + g(U1))
+!>   si-t-2:        U1 = U0 + h (f0 + g(U1)) + h^2/2 [ J_f0 F0 - J_g0 F(U1) ]        (order 2)
+!>   si-t-2-paper:  U1 = U0 + h (f0 + g(U1)) + h^2/2 J0 (f0 - g(U1))  as printed in the
+!>                  paper; only first order on nonlinear problems (second order on the
+!>                  linear test equation), kept to reproduce the paper.
+!>
+!> Embedded pairs: si-t-1 with si-t-2, si-t-2 with si-t-1, si-t-2-paper with si-t-1.
+module taylorode_schemes_semi_implicit_taylor
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_counters, only: counters_type
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
+   use taylorode_problem_ode, only: ode_problem
+   use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
+   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   implicit none
+   private
+
+   public :: semi_implicit_taylor_type, new_semi_implicit_taylor
+   public :: si_t_1, si_t_2, si_t_2_paper
+
+   !> Member identifiers (also the indices of their Newton solvers)
+   integer, parameter :: si_t_1 = 1, si_t_2 = 2, si_t_2_paper = 3
+
+   !> The equation of one member: r(U) = U - known - h g(U) [+ the member's h^2 term]
+   type, extends(nonlinear_system_type) :: semi_implicit_system_type
+      !> Member being solved
+      integer :: member = si_t_1
+      !> End of the step and step size
+      real(dp) :: t1 = 0.0_dp, h = 0.0_dp
+      !> Known part of each member's update, one column per member
+      real(dp), allocatable :: known(:, :)
+      !> Values at the current Newton iterate
+      real(dp), allocatable :: f1(:), g1(:), work(:)
+      !> Jacobians at U0 (jac0 = J_f0 + J_g0, used by si-t-2-paper)
+      class(matrix_type), allocatable :: jac_f0, jac_g0, jac0
+      !> Jacobians at the current Newton iterate
+      class(matrix_type), allocatable :: jac_f1, jac_g1
+   contains
+      procedure :: residual => semi_implicit_residual
+      procedure :: newton_matrix => semi_implicit_matrix
+   end type semi_implicit_system_type
+
+   !> One member of the semi-implicit Taylor family, with its embedded partner
+   type, extends(scheme_type) :: semi_implicit_taylor_type
+      !> Member that advances (si_t_1, si_t_2 or si_t_2_paper)
+      integer :: member = si_t_2
+      !> Member that gives the error estimate
+      integer :: partner = si_t_1
+      !> Values at U0: f, g, F = f + g
+      real(dp), allocatable :: f0(:), g0(:), rhs0(:)
+      !> The equation being solved
+      type(semi_implicit_system_type) :: system
+      !> Newton's method for each member, each with its own matrix
+      type(newton_solver_type) :: newton(3)
+   contains
+      procedure :: advance => semi_implicit_advance
+      procedure :: prepare => semi_implicit_prepare
+      procedure :: restart => semi_implicit_restart
+      procedure :: stability => semi_implicit_stability
+   end type semi_implicit_taylor_type
+
+contains
+
+   !> The semi-implicit Taylor scheme `member` (si_t_1, si_t_2 or si_t_2_paper).
+   function new_semi_implicit_taylor(member) result(self)
+      !> Which member advances the solution
+      integer, intent(in) :: member
+      type(semi_implicit_taylor_type) :: self
+      self%member = member
+      self%implicit = .true.
+      select case (member)
+      case (si_t_1)
+         self%name = "si-t-1"
+         self%order = 1
+         self%nonlinear_order = 1
+         self%partner = si_t_2
+         self%embedded_order = 2
+         self%update = "U1 = U0 + h (f0 + g(U1))"
+         self%newton_matrices = "I - h J_g(U1)"
+      case (si_t_2_paper)
+         self%name = "si-t-2-paper"
+         self%order = 2
+         self%nonlinear_order = 1
+         self%partner = si_t_1
+         self%embedded_order = 1
+         self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 J0 (f0 - g(U1))"
+         self%newton_matrices = "I - h J_g(U1) + h^2/2 J0 J_g(U1)"
+      case default
+         self%member = si_t_2
+         self%name = "si-t-2"
+         self%order = 2
+         self%nonlinear_order = 2
+         self%partner = si_t_1
+         self%embedded_order = 1
+         self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 [J_f0 F0 - J_g0 F(U1)]"
+         self%newton_matrices = "I - h J_g(U1) + h^2/2 J_g0 J(U1)"
+      end select
+   end function new_semi_implicit_taylor
+
+   !> R = (1 + z)/(1 - w) (si-t-1) or (1 + z + (z^2 + zw)/2)/(1 - w + (zw + w^2)/2).
+   pure function semi_implicit_stability(self, z, w) result(r)
+      class(semi_implicit_taylor_type), intent(in) :: self
+      complex(dp), intent(in) :: z, w
+      complex(dp) :: r
+      if (self%member == si_t_1) then
+         r = (1.0_dp + z)/(1.0_dp - w)
+      else
+         r = (1.0_dp + z + (z*z + z*w)/2.0_dp)/(1.0_dp - w + (z*w + w*w)/2.0_dp)
+      end if
+   end function semi_implicit_stability
+
+   !> Work arrays; the Newton matrices of the second-order members hold products of
+   !> Jacobians and get the bandwidths of a product.
+   subroutine semi_implicit_prepare(self, problem, n, stat)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(in) :: problem
+      integer, intent(in) :: n
+      type(status_type), intent(inout) :: stat
+      if (.not. self%resize(problem, n)) return
+      call self%newton(si_t_1)%init(n, self%structure, stat)
+      call self%newton(si_t_2)%init(n, product_structure(self%structure, self%structure), stat)
+      call self%newton(si_t_2_paper)%init(n, product_structure(self%structure, self%structure), stat)
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0)
+      allocate (self%f0(n), self%g0(n), self%rhs0(n))
+      associate (system => self%system)
+         if (allocated(system%known)) deallocate (system%known, system%f1, system%g1, system%work)
+         allocate (system%known(n, 3), system%f1(n), system%g1(n), system%work(n))
+         call new_matrix(system%jac_f0, n, self%structure, stat)
+         call new_matrix(system%jac_g0, n, self%structure, stat)
+         call new_matrix(system%jac0, n, self%structure, stat)
+         call new_matrix(system%jac_f1, n, self%structure, stat)
+         call new_matrix(system%jac_g1, n, self%structure, stat)
+      end associate
+      if (stat%code /= status_ok) self%n = 0
+   end subroutine semi_implicit_prepare
+
+   subroutine semi_implicit_restart(self)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      call self%newton%forget()
+   end subroutine semi_implicit_restart
+
+   subroutine semi_implicit_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:)
+      real(dp), intent(out) :: u1(:)
+      type(newton_settings_type), intent(in) :: newton
+      type(status_type), intent(inout) :: stat
+      real(dp), intent(out), optional :: delta(:)
+
+      logical :: needed(3)
+
+      needed = .false.
+      needed(self%member) = .true.
+      if (present(delta)) needed(self%partner) = .true.
+
+      associate (system => self%system)
+         system%t1 = t + h
+         system%h = h
+         call evaluate_f(problem, t, u0, self%f0, self%counters)
+         if (needed(si_t_2) .or. needed(si_t_2_paper)) then
+            call evaluate_jac_f(problem, t, u0, system%jac_f0, self%counters)
+            call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters)
+         end if
+         if (needed(si_t_1)) system%known(:, si_t_1) = u0 + h*self%f0
+         if (needed(si_t_2)) then
+            call evaluate_g(problem, t, u0, self%g0, self%counters)
+            self%rhs0 = self%f0 + self%g0
+            system%known(:, si_t_2) = u0 + h*self%f0
+            call system%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, system%known(:, si_t_2))
+         end if
+         if (needed(si_t_2_paper)) then
+            call system%jac0%set_scaled(1.0_dp, system%jac_f0, stat)
+            call system%jac0%add_scaled(1.0_dp, system%jac_g0, stat)
+            system%known(:, si_t_2_paper) = u0 + h*self%f0
+            call system%jac0%multiply_add(0.5_dp*h*h, self%f0, system%known(:, si_t_2_paper))
+         end if
+         if (stat%code /= status_ok) return
+
+         system%member = self%member
+         u1 = u0
+         call self%newton(self%member)%solve(system, problem, h, newton, u1, self%counters, stat)
+         if (stat%code /= status_ok .or. .not. present(delta)) return
+
+         system%member = self%partner
+         delta = u1
+         call self%newton(self%partner)%solve(system, problem, h, newton, delta, self%counters, stat)
+      end associate
+      if (stat%code /= status_ok) return
+      if (self%order > self%embedded_order) then
+         delta = u1 - delta
+      else
+         delta = delta - u1
+      end if
+   end subroutine semi_implicit_advance
+
+   subroutine semi_implicit_residual(self, problem, u, r, counters)
+      class(semi_implicit_system_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: r(:)
+      type(counters_type), intent(inout) :: counters
+
+      real(dp) :: half_h2
+
+      half_h2 = 0.5_dp*self%h*self%h
+      call evaluate_g(problem, self%t1, u, self%g1, counters)
+      r = u - self%known(:, self%member) - self%h*self%g1
+      select case (self%member)
+      case (si_t_2)
+         call evaluate_f(problem, self%t1, u, self%f1, counters)
+         self%work = self%f1 + self%g1
+         call self%jac_g0%multiply_add(half_h2, self%work, r)
+      case (si_t_2_paper)
+         call self%jac0%multiply_add(half_h2, self%g1, r)
+      end select
+   end subroutine semi_implicit_residual
+
+   subroutine semi_implicit_matrix(self, problem, u, matrix, counters, stat)
+      class(semi_implicit_system_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u(:)
+      class(matrix_type), intent(inout) :: matrix
+      type(counters_type), intent(inout) :: counters
+      type(status_type), intent(inout) :: stat
+
+      real(dp) :: half_h2
+
+      half_h2 = 0.5_dp*self%h*self%h
+      call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+      call matrix%add_scaled(-self%h, self%jac_g1, stat)
+      select case (self%member)
+      case (si_t_2)
+         call evaluate_jac_f(problem, self%t1, u, self%jac_f1, counters)
+         call self%jac_f1%add_scaled(1.0_dp, self%jac_g1, stat)
+         call matrix%add_product(half_h2, self%jac_g0, self%jac_f1, stat)
+      case (si_t_2_paper)
+         call matrix%add_product(half_h2, self%jac0, self%jac_g1, stat)
+      end select
+      call matrix%add_identity(1.0_dp)
+   end subroutine semi_implicit_matrix
+
+end module taylorode_schemes_semi_implicit_taylor

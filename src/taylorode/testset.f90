@@ -1,0 +1,29 @@
+!> The classic stiff test set as ready problems (each a `test_problem_type`: span,
+!> initial state, recommended tolerances, published solution): Van der Pol (the
+!> paper's problem, both splittings and initial conditions), the linear test
+!> equation, Robertson, HIRES, OREGO, E5, the banded Brusselator and
+!> Prothero-Robinson, and `new_test_problem` to create any of them by name.
+module taylorode_testset
+   use taylorode_testset_test_problem, only: test_problem_type
+   use taylorode_testset_van_der_pol, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
+      vdp_split_paper, vdp_split_stiff, vdp_ic_prepared, vdp_ic_unprepared
+   use taylorode_testset_linear_test, only: linear_test_type, new_linear_test
+   use taylorode_testset_robertson, only: robertson_type, new_robertson
+   use taylorode_testset_hires, only: hires_type, new_hires
+   use taylorode_testset_orego, only: orego_type, new_orego
+   use taylorode_testset_e5, only: e5_type, new_e5
+   use taylorode_testset_brusselator, only: brusselator_type, new_brusselator
+   use taylorode_testset_prothero_robinson, only: prothero_robinson_type, new_prothero_robinson
+   use taylorode_testset_registry, only: new_test_problem, test_problem_names, test_problem_count
+   implicit none
+   private
+
+   public :: test_problem_type
+   public :: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, vdp_split_paper, &
+      vdp_split_stiff, vdp_ic_prepared, vdp_ic_unprepared
+   public :: linear_test_type, new_linear_test
+   public :: robertson_type, new_robertson, hires_type, new_hires, orego_type, new_orego, e5_type, &
+      new_e5, brusselator_type, new_brusselator, prothero_robinson_type, new_prothero_robinson
+   public :: new_test_problem, test_problem_names, test_problem_count
+
+end module taylorode_testset

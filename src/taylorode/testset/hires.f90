@@ -1,0 +1,94 @@
+!> HIRES, high irradiance responses of photomorphogenesis (Hairer & Wanner II, IV.10; Bari test set HIRES).
+module taylorode_testset_hires
+   use taylorode_base_kinds, only: dp
+   use taylorode_testset_test_problem, only: test_problem_type
+   implicit none
+   private
+
+   public :: hires_type, new_hires
+
+   !> HIRES, high irradiance responses of photomorphogenesis (Hairer & Wanner II,
+   !> IV.10; Bari test set HIRES). f = the reaction 280 y6 y8 and the source 0.0007,
+   !> g = the linear exchange terms.
+   type, extends(test_problem_type) :: hires_type
+   contains
+      procedure :: f => hires_f
+      procedure :: g => hires_g
+      procedure :: jac_f => hires_jac_f
+      procedure :: jac_g => hires_jac_g
+   end type hires_type
+
+contains
+
+   !> HIRES from its standard initial state over [0, 321.8122], with the published solution.
+   pure function new_hires() result(self)
+      type(hires_type) :: self
+      self%name = "hires"
+      self%t_end = 321.8122_dp
+      self%u0 = [1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0057_dp]
+      self%rtol = 1.0e-6_dp
+      self%atol = 1.0e-10_dp
+      self%reference = [0.7371312573325668e-3_dp, 0.1442485726316185e-3_dp, 0.5888729740967575e-4_dp, &
+         0.1175651343283149e-2_dp, 0.2386356198831331e-2_dp, 0.6238968252742796e-2_dp, &
+         0.2849998395185769e-2_dp, 0.2850001604814231e-2_dp]
+      self%source = "Hairer & Wanner II, IV.10; Bari test set HIRES (reference values)"
+   end function new_hires
+
+   subroutine hires_f(self, t, u, dudt)
+      class(hires_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp) :: reaction
+      reaction = 280.0_dp*u(6)*u(8)
+      dudt = 0.0_dp
+      dudt(1) = 0.0007_dp
+      dudt(6) = -reaction
+      dudt(7) = reaction
+      dudt(8) = -reaction
+   end subroutine hires_f
+
+   subroutine hires_g(self, t, u, dudt)
+      class(hires_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = -1.71_dp*u(1) + 0.43_dp*u(2) + 8.32_dp*u(3)
+      dudt(2) = 1.71_dp*u(1) - 8.75_dp*u(2)
+      dudt(3) = -10.03_dp*u(3) + 0.43_dp*u(4) + 0.035_dp*u(5)
+      dudt(4) = 8.32_dp*u(2) + 1.71_dp*u(3) - 1.12_dp*u(4)
+      dudt(5) = -1.745_dp*u(5) + 0.43_dp*u(6) + 0.43_dp*u(7)
+      dudt(6) = 0.69_dp*u(4) + 1.71_dp*u(5) - 0.43_dp*u(6) + 0.69_dp*u(7)
+      dudt(7) = -1.81_dp*u(7)
+      dudt(8) = 1.81_dp*u(7)
+   end subroutine hires_g
+
+   subroutine hires_jac_f(self, t, u, jac)
+      class(hires_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+      jac(6, 6) = -280.0_dp*u(8)
+      jac(6, 8) = -280.0_dp*u(6)
+      jac(7, 6:8:2) = -jac(6, 6:8:2)
+      jac(8, 6:8:2) = jac(6, 6:8:2)
+   end subroutine hires_jac_f
+
+   subroutine hires_jac_g(self, t, u, jac)
+      class(hires_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+      jac(1, 1:3) = [-1.71_dp, 0.43_dp, 8.32_dp]
+      jac(2, 1:2) = [1.71_dp, -8.75_dp]
+      jac(3, 3:5) = [-10.03_dp, 0.43_dp, 0.035_dp]
+      jac(4, 2:4) = [8.32_dp, 1.71_dp, -1.12_dp]
+      jac(5, 5:7) = [-1.745_dp, 0.43_dp, 0.43_dp]
+      jac(6, 4:7) = [0.69_dp, 1.71_dp, -0.43_dp, 0.69_dp]
+      jac(7, 7) = -1.81_dp
+      jac(8, 7) = 1.81_dp
+   end subroutine hires_jac_g
+
+end module taylorode_testset_hires

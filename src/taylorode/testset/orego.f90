@@ -1,0 +1,77 @@
+!> OREGO, the Oregonator (Hairer & Wanner II, IV.10; Bari test set OREGO).
+module taylorode_testset_orego
+   use taylorode_base_kinds, only: dp
+   use taylorode_testset_test_problem, only: test_problem_type
+   implicit none
+   private
+
+   public :: orego_type, new_orego
+
+   !> OREGO, the Oregonator (Hairer & Wanner II, IV.10; Bari test set OREGO).
+   !> g = the fast first two equations (scaled by s and 1/s), f = the slow third.
+   type, extends(test_problem_type) :: orego_type
+      real(dp) :: s = 77.27_dp, w = 0.161_dp, q = 8.375e-6_dp
+   contains
+      procedure :: f => orego_f
+      procedure :: g => orego_g
+      procedure :: jac_f => orego_jac_f
+      procedure :: jac_g => orego_jac_g
+   end type orego_type
+
+contains
+
+   !> OREGO from (1, 2, 3) over [0, 360], with the published solution.
+   pure function new_orego() result(self)
+      type(orego_type) :: self
+      self%name = "orego"
+      self%t_end = 360.0_dp
+      self%u0 = [1.0_dp, 2.0_dp, 3.0_dp]
+      self%rtol = 1.0e-6_dp
+      self%atol = 1.0e-6_dp
+      self%reference = [0.1000814870318523e1_dp, 0.1228178521549917e4_dp, 0.1320554942846706e3_dp]
+      self%source = "Hairer & Wanner II, IV.10; Bari test set OREGO (reference values)"
+   end function new_orego
+
+   subroutine orego_f(self, t, u, dudt)
+      class(orego_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1:2) = 0.0_dp
+      dudt(3) = self%w*(u(1) - u(3))
+   end subroutine orego_f
+
+   subroutine orego_g(self, t, u, dudt)
+      class(orego_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = self%s*(u(2) - u(1)*u(2) + u(1) - self%q*u(1)**2)
+      dudt(2) = (-u(2) - u(1)*u(2) + u(3))/self%s
+      dudt(3) = 0.0_dp
+   end subroutine orego_g
+
+   subroutine orego_jac_f(self, t, u, jac)
+      class(orego_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+      jac(3, 1) = self%w
+      jac(3, 3) = -self%w
+   end subroutine orego_jac_f
+
+   subroutine orego_jac_g(self, t, u, jac)
+      class(orego_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+      jac(1, 1) = self%s*(1.0_dp - u(2) - 2.0_dp*self%q*u(1))
+      jac(1, 2) = self%s*(1.0_dp - u(1))
+      jac(2, 1) = -u(2)/self%s
+      jac(2, 2) = -(1.0_dp + u(1))/self%s
+      jac(2, 3) = 1.0_dp/self%s
+   end subroutine orego_jac_g
+
+end module taylorode_testset_orego
