@@ -117,8 +117,9 @@ contains
    end subroutine timed_run
 
    !> radau5 at rtol = atol = 1e-12 (atol scaled by the problem's atol/rtol when it
-   !> has small components), with dense output at t_out.
-   subroutine reference_run(problem, t0, t_end, u0, t_out, u_end, u_out, stat)
+   !> has small components), with dense output at t_out, within max_steps attempts
+   !> (default 50 million).
+   subroutine reference_run(problem, t0, t_end, u0, t_out, u_end, u_out, stat, max_steps)
       !> The problem
       class(test_problem_type), intent(inout) :: problem
       !> Interval, initial state and output times
@@ -127,6 +128,8 @@ contains
       real(dp), intent(out) :: u_end(:), u_out(:, :)
       !> Status of the reference run
       type(status_type), intent(out) :: stat
+      !> Attempted steps allowed
+      integer(i8), intent(in), optional :: max_steps
       class(scheme_type), allocatable :: scheme
       type(integrator_options_type) :: options
       type(integration_stats_type) :: stats
@@ -134,6 +137,7 @@ contains
       options%rtol = reference_tolerance
       options%atol = reference_tolerance*tolerance_scale(problem)
       options%max_steps = 50000000_i8
+      if (present(max_steps)) options%max_steps = max_steps
       call new_scheme("radau5", scheme, stat)
       u_end = u0
       call integrate(problem, scheme, t0, t_end, u_end, options, stats, stat, t_out=t_out, u_out=u_out)

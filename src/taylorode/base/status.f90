@@ -10,7 +10,8 @@ module taylorode_base_status
    public :: status_type, set_status, status_name
    public :: status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
-      status_step_underflow, status_max_steps, status_unknown_scheme
+      status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
+      status_output_error, status_description
 
    !> Success
    integer, parameter :: status_ok = 0
@@ -32,6 +33,11 @@ module taylorode_base_status
    integer, parameter :: status_max_steps = 8
    !> A scheme name that the factory does not know
    integer, parameter :: status_unknown_scheme = 9
+   !> The problem said it cannot evaluate f, g or a Jacobian at the requested point
+   !> (see ode_problem%reject_evaluation), repeatedly
+   integer, parameter :: status_evaluation_failed = 10
+   !> A file could not be written completely (nothing partial is left behind)
+   integer, parameter :: status_output_error = 11
 
    !> Outcome of a library call: `code == status_ok` means success
    type :: status_type
@@ -81,8 +87,33 @@ contains
       case (status_step_underflow); name = "step size underflow"
       case (status_max_steps); name = "maximum steps reached"
       case (status_unknown_scheme); name = "unknown scheme"
+      case (status_evaluation_failed); name = "evaluation failed"
+      case (status_output_error); name = "output error"
       case default; name = "unknown status"
       end select
    end function status_name
+
+   !> A sentence saying what a status code means, for callers that got a code without
+   !> a message (fixed text: safe to use from any thread).
+   pure function status_description(code) result(text)
+      !> One of the `status_*` constants
+      integer, intent(in) :: code
+      character(len=80) :: text
+      select case (code)
+      case (status_ok); text = "success"
+      case (status_invalid_argument); text = "an argument or option is out of its valid range"
+      case (status_size_mismatch); text = "arrays passed together do not have matching sizes"
+      case (status_nonfinite); text = "a value became NaN or Inf"
+      case (status_singular_matrix); text = "the Newton iteration matrix is singular (reduce the step size)"
+      case (status_newton_diverged); text = "the Newton iteration diverged"
+      case (status_newton_not_converged); text = "the Newton iteration did not converge within the iteration limit"
+      case (status_step_underflow); text = "the step size fell below the minimum step or the roundoff of t"
+      case (status_max_steps); text = "the maximum number of steps was reached"
+      case (status_unknown_scheme); text = "unknown scheme name"
+      case (status_evaluation_failed); text = "the problem could not evaluate f, g or a Jacobian"
+      case (status_output_error); text = "a file could not be written"
+      case default; text = "unknown status"
+      end select
+   end function status_description
 
 end module taylorode_base_status

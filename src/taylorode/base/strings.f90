@@ -48,7 +48,17 @@ contains
          text = "nan"
          return
       end if
-      write (form, '("(es", i0, ".", i0, "e2)")') d + 7, d - 1
+      if (abs(x) > huge(x)) then
+         text = merge("inf ", "-inf", x > 0.0_dp)
+         text = trim(text)
+         return
+      end if
+      ! three exponent digits where two cannot hold the exponent (1e-100, 1e100)
+      if (x /= 0.0_dp .and. (abs(x) < 1.0e-99_dp .or. abs(x) >= 1.0e100_dp)) then
+         write (form, '("(es", i0, ".", i0, "e3)")') d + 8, d - 1
+      else
+         write (form, '("(es", i0, ".", i0, "e2)")') d + 7, d - 1
+      end if
       write (buffer, form) x
       text = trim(adjustl(buffer))
       ! one digit: "1.E+04" reads better as "1E+04"

@@ -1,13 +1,17 @@
-!> Step history of an adaptive integration (recorded only when asked for) and its
-!> CSV writer.
+!> Step history of an adaptive integration, recorded only when asked for: kept in
+!> memory (optionally bounded), or streamed row by row into a CSV file so that a
+!> long run holds nothing in memory. One row format serves both.
 module taylorode_integrate_history
-   use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument
+   use taylorode_base_kinds, only: dp, i8
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_output_error
+   use taylorode_base_files, only: text_file_type
    implicit none
    private
 
    public :: step_history_type, write_history_csv
-   public :: attempt_accepted, attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite
+   public :: attempt_accepted, attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, &
+      attempt_failed_evaluation
    public :: attempt_name
 
    !> The step passed the error test
@@ -18,32 +22,114 @@ module taylorode_integrate_history
    integer, parameter :: attempt_failed_newton = 2
    !> f or g returned NaN/Inf, or the new state was not finite
    integer, parameter :: attempt_failed_nonfinite = 3
+   !> The problem could not evaluate f, g or a Jacobian at a point of the step
+   integer, parameter :: attempt_failed_evaluation = 4
+
+   !> Column names before the state columns
+   character(len=*), parameter :: header = "step,t,h,err,outcome,newton_iterations"
 
    !> Every attempted step: start time, size, weighted error, outcome, Newton iterations
+   !> (and the state after it when options%history_states is set). `integrate` starts
+   !> the history afresh on entry, so one history may serve several integrations.
    type :: step_history_type
-      !> Number of attempts recorded
+      !> Attempts recorded (kept in memory, or written to the stream)
       integer :: count = 0
+      !> At most this many attempts are kept in memory (0: no bound); later ones are
+      !> counted in `dropped`
+      integer :: capacity = 0
+      !> Attempts not kept because the capacity was reached
+      integer(i8) :: dropped = 0
       !> Start of each attempted step
       real(dp), allocatable :: t(:)
       !> Size of each attempted step
       real(dp), allocatable :: h(:)
       !> Weighted error estimate (NaN when the step failed before it)
       real(dp), allocatable :: err(:)
-      !> attempt_accepted, attempt_rejected_error, attempt_failed_newton or attempt_failed_nonfinite
+      !> attempt_* outcome of each attempt
       integer, allocatable :: outcome(:)
-      !> Newton iterations spent on the attempt
+      !> Newton iterations spent on each attempt
       integer, allocatable :: newton_iterations(:)
-      !> State after the attempt (only with options%history_states), one column per attempt
+      !> State after each attempt (only with options%history_states), one column per attempt
       real(dp), allocatable :: states(:, :)
+      !> Number of state columns of the current integration
+      integer :: state_columns = 0
+      !> The CSV file rows are streamed to (see stream_to)
+      type(text_file_type), private :: stream
+      !> Whether rows go to the stream instead of memory, and whether its header is out
+      logical, private :: streaming = .false., header_written = .false.
    contains
-      !> Append one attempt (storage grows geometrically)
+      !> Begin an integration with `state_columns` states per row (0: none)
+      procedure :: start
+      !> Append one attempt
       procedure :: record
+      !> Send every following row into a CSV file (written safely: see `finish`)
+      procedure :: stream_to
+      !> Complete the stream: the file appears only when every row was written
+      procedure :: finish
+      !> Whether writing the stream failed
+      procedure :: failed
    end type step_history_type
 
 contains
 
-   !> Append one attempt; `state` is stored only when given.
-   pure subroutine record(self, t, h, err, outcome, newton_iterations, state)
+   !> Word for an attempt outcome, as written in the CSV.
+   pure function attempt_name(outcome) result(name)
+      !> attempt_* outcome
+      integer, intent(in) :: outcome
+      character(len=:), allocatable :: name
+      select case (outcome)
+      case (attempt_accepted); name = "accepted"
+      case (attempt_rejected_error); name = "rejected_error"
+      case (attempt_failed_newton); name = "failed_newton"
+      case (attempt_failed_nonfinite); name = "failed_nonfinite"
+      case (attempt_failed_evaluation); name = "failed_evaluation"
+      case default; name = "unknown"
+      end select
+   end function attempt_name
+
+   !> Begin an integration: in memory, forget what earlier integrations recorded; in a
+   !> stream, write the header once (a stream may collect several integrations with the
+   !> same number of state columns).
+   subroutine start(self, state_columns, stat)
+      !> The history
+      class(step_history_type), intent(inout) :: self
+      !> States per row (0 for none)
+      integer, intent(in) :: state_columns
+      !> status_invalid_argument when a stream already has other columns
+      type(status_type), intent(inout) :: stat
+      if (self%streaming) then
+         if (self%header_written) then
+            if (state_columns /= self%state_columns) call set_status(stat, status_invalid_argument, &
+               "step history: the stream already has other state columns")
+            return
+         end if
+         self%state_columns = state_columns
+         call self%stream%write_line(header//state_names(state_columns))
+         self%header_written = .true.
+         return
+      end if
+      self%count = 0
+      self%dropped = 0
+      self%state_columns = state_columns
+      if (allocated(self%t)) deallocate (self%t, self%h, self%err, self%outcome, self%newton_iterations)
+      if (allocated(self%states)) deallocate (self%states)
+   end subroutine start
+
+   !> ",u1,u2,...,uN"
+   pure function state_names(columns) result(names)
+      integer, intent(in) :: columns
+      character(len=:), allocatable :: names
+      character(len=16) :: name
+      integer :: j
+      names = ""
+      do j = 1, columns
+         write (name, '(",u", i0)') j
+         names = names//trim(name)
+      end do
+   end function state_names
+
+   !> Append one attempt; the state is stored only when the history has state columns.
+   subroutine record(self, t, h, err, outcome, newton_iterations, state)
       !> The history
       class(step_history_type), intent(inout) :: self
       !> Start of the step
@@ -57,99 +143,146 @@ contains
       !> Newton iterations of the attempt
       integer, intent(in) :: newton_iterations
       !> State after the attempt
-      real(dp), intent(in), optional :: state(:)
+      real(dp), intent(in) :: state(:)
 
-      if (.not. allocated(self%t)) call grow(self, 1024, state)
-      if (self%count == size(self%t)) call grow(self, 2*size(self%t), state)
       self%count = self%count + 1
+      if (self%streaming) then
+         call write_row(self%stream, self%count, t, h, err, outcome, newton_iterations, &
+            state(:min(size(state), self%state_columns)))
+         return
+      end if
+      if (self%capacity > 0 .and. self%count > self%capacity) then
+         self%count = self%capacity
+         self%dropped = self%dropped + 1
+         return
+      end if
+      if (.not. allocated(self%t)) call grow(self, 1024)
+      if (self%count > size(self%t)) call grow(self, 2*size(self%t))
       self%t(self%count) = t
       self%h(self%count) = h
       self%err(self%count) = err
       self%outcome(self%count) = outcome
       self%newton_iterations(self%count) = newton_iterations
-      if (present(state)) self%states(:, self%count) = state
+      if (self%state_columns > 0) self%states(:, self%count) = state(:self%state_columns)
    end subroutine record
 
-   !> Resize the storage to `capacity` attempts, keeping what is recorded.
-   pure subroutine grow(self, capacity, state)
+   !> Resize the storage to `capacity` attempts (at most self%capacity), keeping what is recorded.
+   subroutine grow(self, capacity)
       class(step_history_type), intent(inout) :: self
       integer, intent(in) :: capacity
-      real(dp), intent(in), optional :: state(:)
       real(dp), allocatable :: real_buffer(:), state_buffer(:, :)
       integer, allocatable :: integer_buffer(:)
-      integer :: n
+      integer :: n, new_size
 
-      n = self%count
-      allocate (real_buffer(capacity))
+      n = self%count - 1
+      new_size = capacity
+      if (self%capacity > 0) new_size = min(new_size, self%capacity)
+      allocate (real_buffer(new_size))
       if (n > 0) real_buffer(:n) = self%t(:n)
       call move_alloc(real_buffer, self%t)
-      allocate (real_buffer(capacity))
+      allocate (real_buffer(new_size))
       if (n > 0) real_buffer(:n) = self%h(:n)
       call move_alloc(real_buffer, self%h)
-      allocate (real_buffer(capacity))
+      allocate (real_buffer(new_size))
       if (n > 0) real_buffer(:n) = self%err(:n)
       call move_alloc(real_buffer, self%err)
-      allocate (integer_buffer(capacity))
+      allocate (integer_buffer(new_size))
       if (n > 0) integer_buffer(:n) = self%outcome(:n)
       call move_alloc(integer_buffer, self%outcome)
-      allocate (integer_buffer(capacity))
+      allocate (integer_buffer(new_size))
       if (n > 0) integer_buffer(:n) = self%newton_iterations(:n)
       call move_alloc(integer_buffer, self%newton_iterations)
-      if (present(state)) then
-         allocate (state_buffer(size(state), capacity))
+      if (self%state_columns > 0) then
+         allocate (state_buffer(self%state_columns, new_size))
          if (n > 0) state_buffer(:, :n) = self%states(:, :n)
          call move_alloc(state_buffer, self%states)
       end if
    end subroutine grow
 
-   !> Word for an attempt outcome, as written in the CSV.
-   pure function attempt_name(outcome) result(name)
-      !> attempt_* outcome
-      integer, intent(in) :: outcome
-      character(len=:), allocatable :: name
-      select case (outcome)
-      case (attempt_accepted); name = "accepted"
-      case (attempt_rejected_error); name = "rejected_error"
-      case (attempt_failed_newton); name = "failed_newton"
-      case (attempt_failed_nonfinite); name = "failed_nonfinite"
-      case default; name = "unknown"
-      end select
-   end function attempt_name
+   !> One CSV row: step,t,h,err,outcome,newton_iterations[,u1,...].
+   subroutine write_row(file, step, t, h, err, outcome, newton_iterations, state)
+      type(text_file_type), intent(inout) :: file
+      integer, intent(in) :: step, outcome, newton_iterations
+      real(dp), intent(in) :: t, h, err, state(:)
+      character(len=160) :: fields
+      character(len=32) :: value
+      integer :: j
+      write (fields, '(i0, 3(",", es24.16e3), ",", a, ",", i0)') step, t, h, err, attempt_name(outcome), &
+         newton_iterations
+      if (size(state) == 0) then
+         call file%write_line(trim(fields))
+         return
+      end if
+      call file%write_part(trim(fields))
+      do j = 1, size(state)
+         write (value, '(",", es24.16e3)') state(j)
+         call file%write_part(trim(value))
+      end do
+      call file%write_line("")
+   end subroutine write_row
 
-   !> Write the history as CSV: step,t,h,err,outcome,newton_iterations[,u1,u2,...].
+   !> Send every following row into the CSV file `path`, written to a temporary file
+   !> beside it until `finish` renames it into place.
+   subroutine stream_to(self, path, stat)
+      !> The history
+      class(step_history_type), intent(inout) :: self
+      !> Destination (an existing file is replaced only by a complete new one)
+      character(len=*), intent(in) :: path
+      !> status_output_error when the file cannot be created
+      type(status_type), intent(inout) :: stat
+      call self%stream%open(path, stat)
+      if (stat%code /= status_ok) return
+      self%streaming = .true.
+      self%header_written = .false.
+      self%count = 0
+   end subroutine stream_to
+
+   !> Complete the stream: the file is renamed into place when every row was written,
+   !> else it is removed and stat says why (the destination is left as it was).
+   subroutine finish(self, stat)
+      !> The history
+      class(step_history_type), intent(inout) :: self
+      !> status_output_error on failure
+      type(status_type), intent(inout) :: stat
+      if (.not. self%streaming) return
+      if (.not. self%header_written) call self%stream%write_line(header)
+      call self%stream%commit(stat)
+      self%streaming = .false.
+   end subroutine finish
+
+   !> Whether a write to the stream has failed (the integration should stop).
+   logical function failed(self)
+      !> The history
+      class(step_history_type), intent(in) :: self
+      failed = self%streaming .and. self%stream%io_error /= 0
+   end function failed
+
+   !> Write a history kept in memory as CSV: step,t,h,err,outcome,newton_iterations[,u1,...].
+   !> The file appears only when it was written completely.
    subroutine write_history_csv(history, filename, stat)
       !> The recorded history
       type(step_history_type), intent(in) :: history
-      !> Output file (overwritten)
+      !> Output file (replaced by a complete new one)
       character(len=*), intent(in) :: filename
-      !> status_invalid_argument when the file cannot be written
+      !> status_output_error when the file cannot be written
       type(status_type), intent(out) :: stat
+      type(text_file_type) :: file
+      real(dp) :: no_state(0)
+      integer :: i
 
-      integer :: unit, io, i, j, n_states
-      character(len=256) :: io_message
-
-      open (newunit=unit, file=filename, status="replace", action="write", iostat=io, iomsg=io_message)
-      if (io /= 0) then
-         call set_status(stat, status_invalid_argument, "cannot write "//filename//": "//trim(io_message))
-         return
-      end if
-      n_states = 0
-      if (allocated(history%states)) n_states = size(history%states, 1)
-      write (unit, '(a)', advance="no") "step,t,h,err,outcome,newton_iterations"
-      do j = 1, n_states
-         write (unit, '(a, i0)', advance="no") ",u", j
-      end do
-      write (unit, '(a)') ""
+      call file%open(filename, stat)
+      if (stat%code /= status_ok) return
+      call file%write_line(header//state_names(history%state_columns))
       do i = 1, history%count
-         write (unit, '(i0, 3(",", es24.16e3), ",", a, ",", i0)', advance="no") i, history%t(i), &
-            history%h(i), history%err(i), attempt_name(history%outcome(i)), history%newton_iterations(i)
-         do j = 1, n_states
-            write (unit, '(",", es24.16e3)', advance="no") history%states(j, i)
-         end do
-         write (unit, '(a)') ""
+         if (history%state_columns > 0) then
+            call write_row(file, i, history%t(i), history%h(i), history%err(i), history%outcome(i), &
+               history%newton_iterations(i), history%states(:, i))
+         else
+            call write_row(file, i, history%t(i), history%h(i), history%err(i), history%outcome(i), &
+               history%newton_iterations(i), no_state)
+         end if
       end do
-      close (unit)
-      stat%code = status_ok
+      call file%commit(stat)
    end subroutine write_history_csv
 
 end module taylorode_integrate_history

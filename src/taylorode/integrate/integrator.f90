@@ -85,6 +85,13 @@ contains
          call finish()
          return
       end if
+      if (present(history)) then
+         call history%start(merge(n, 0, options%history_states), stat)
+         if (stat%code /= status_ok) then
+            call finish()
+            return
+         end if
+      end if
       call scheme%restart()
       call stepper%start(n, scheme, options)
       allocate (scratch(n))
@@ -137,7 +144,7 @@ contains
             h = h_next
          case (attempt_rejected_error)
             failures = 0
-            call record_attempt(err, outcome, newton_before)
+            call record_attempt(err, outcome, newton_before, u)
             stats%rejected_error = stats%rejected_error + 1
             h = h_next
          case default
@@ -148,7 +155,7 @@ contains
             else
                stats%rejected_newton = stats%rejected_newton + 1
             end if
-            call record_attempt(nan, outcome, newton_before)
+            call record_attempt(nan, outcome, newton_before, u)
             if (failures >= options%max_failures) then
                call set_status(stat, step_stat%code, "integrate: gave up after "//format_integer(int(failures, i8))// &
                   " consecutive failed attempts at t = "//format_real(t, 6)//", last: "//step_stat%message)
@@ -226,24 +233,16 @@ contains
          call output%emit(t, h, t_b, u, stepper%u_new, t_out, u_out)
       end subroutine emit_outputs
 
-      !> Append the attempt to the history, when one is kept.
+      !> Append the attempt to the history, when one is kept (with the state after it:
+      !> the new state of an accepted step, else the unchanged one).
       subroutine record_attempt(err_value, outcome_value, newton_start, state)
          real(dp), intent(in) :: err_value
          integer, intent(in) :: outcome_value
          integer(i8), intent(in) :: newton_start
-         real(dp), intent(in), optional :: state(:)
-         integer :: iterations
+         real(dp), intent(in) :: state(:)
          if (.not. present(history)) return
-         iterations = int(scheme%counters%newton_iterations - newton_start)
-         if (options%history_states) then
-            if (present(state)) then
-               call history%record(t, h, err_value, outcome_value, iterations, state)
-            else
-               call history%record(t, h, err_value, outcome_value, iterations, u)
-            end if
-         else
-            call history%record(t, h, err_value, outcome_value, iterations)
-         end if
+         call history%record(t, h, err_value, outcome_value, &
+            int(scheme%counters%newton_iterations - newton_start), state)
       end subroutine record_attempt
 
       !> Work counters and times of this call.
