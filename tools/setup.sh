@@ -176,17 +176,22 @@ if usable; then
       say "fpm.toml asks for test-drive $td_tag, unreachable; seeded the stand-in into $dep_rel"
     else
       forget_cached_entry
+      say "dropped fpm's stale record of test-drive (build/cache.toml); it re-reads $dep_rel"
     fi
   fi
 else
-  broken=""
-  [ -e "$dep" ] && broken="replaced a broken $dep_rel: "
+  broken=0
+  [ -e "$dep" ] && broken=1
   rm -rf "$dep"
   forget_cached_entry
   if reachable; then
-    [ -z "$broken" ] || say "removed a broken $dep_rel; fpm fetches test-drive $td_tag itself"
+    [ "$broken" -eq 0 ] || say "removed a broken $dep_rel; fpm fetches test-drive $td_tag itself"
   else
     seed_standin
-    say "${broken}test-drive repository unreachable; seeded the stand-in (tools/testdrive-standin)"
+    if [ "$broken" -eq 1 ]; then
+      say "$dep_rel was broken and test-drive is unreachable: seeded the stand-in (tools/testdrive-standin)"
+    else
+      say "test-drive is unreachable: seeded the stand-in (tools/testdrive-standin) into $dep_rel"
+    fi
   fi
 fi
