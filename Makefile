@@ -1,4 +1,4 @@
-# taylorode: every target first runs tools/setup.sh, which installs whatever is
+# taylorode: every target but help first runs tools/setup.sh, which installs whatever is
 # missing (gfortran, LAPACK/BLAS, fpm 0.12.0, the test-drive dev-dependency) and
 # prints nothing when nothing is.
 #
