@@ -1,59 +1,197 @@
 #!/usr/bin/env bash
-# Installs the taylorode toolchain on a fresh Debian machine and makes the
-# test-drive dev-dependency resolvable, online or offline.
-#   gfortran, LAPACK, BLAS : Debian packages
-#   fpm                    : PyPI, pinned
-#   test-drive             : fetched by fpm when its repository is reachable;
-#                            otherwise our API-compatible stand-in is seeded
-#                            into build/dependencies/test-drive.
+# Installs whatever taylorode needs and is missing, then makes sure the test-drive
+# dev-dependency is usable. Idempotent: when nothing is missing it prints nothing
+# and takes a fraction of a second. It prints one line per thing it installs or
+# repairs; a failure stops it with a message starting "setup: ERROR".
+#   gfortran, LAPACK, BLAS, git : Debian packages (apt-get, as root or through sudo)
+#   fpm 0.12.0                  : the one on PATH if it is 0.12.0, otherwise PyPI's,
+#                                 installed into the project's virtual environment
+#                                 .venv (the Makefile puts .venv/bin first on PATH)
+#   test-drive v0.5.0           : fetched by fpm itself when its repository can be
+#                                 reached; otherwise our stand-in (tools/testdrive-standin)
+#                                 is seeded into build/dependencies/test-drive. A broken
+#                                 or missing checkout (e.g. the empty .git an offline fpm
+#                                 run leaves behind) is repaired.
 set -euo pipefail
 
 FPM_VERSION="0.12.0"
-TESTDRIVE_URL="https://github.com/fortran-lang/test-drive"
-TESTDRIVE_TAG="v0.5.0"
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+venv="$root/.venv"
+standin="$root/tools/testdrive-standin"
+dep_rel="build/dependencies/test-drive"
+dep="$root/$dep_rel"
+cache="$root/build/cache.toml"
 
-as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+say() { echo "setup: $*"; }
+die() { echo "setup: ERROR: $*" >&2; exit 1; }
+# Runs a command with its output kept in a log that is shown only if it fails.
+quietly() {
+  local log status=0
+  log="$(mktemp)"
+  "$@" >"$log" 2>&1 || status=$?
+  if [ "$status" -ne 0 ]; then
+    echo "setup: ERROR: '$*' failed (exit status $status):" >&2
+    tail -n 25 "$log" | sed 's/^/  | /' >&2
+  fi
+  rm -f "$log"
+  return "$status"
+}
+
+# ---------------------------------------------------------------- Debian packages
+apt_updated=0
+apt_install() {
+  command -v apt-get >/dev/null 2>&1 ||
+    die "missing: $*; install them with your system's package manager (this script knows apt-get only)"
+  local -a sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null 2>&1 || die "missing: $*; run as root: apt-get install $*"
+    sudo=(sudo)
+  fi
+  if [ "$apt_updated" -eq 0 ]; then
+    quietly "${sudo[@]}" apt-get update -qq || die "apt-get update failed (offline?); needed to install: $*"
+    apt_updated=1
+  fi
+  quietly "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" ||
+    die "could not install $* with apt-get"
+  say "installed $* (apt)"
+}
 
 have_lib() { compgen -G "/usr/lib/*/lib$1.so" >/dev/null || compgen -G "/usr/lib/lib$1.so" >/dev/null; }
-if ! command -v gfortran >/dev/null 2>&1 || ! have_lib lapack || ! have_lib blas; then
-  as_root apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq gfortran liblapack-dev libblas-dev >/dev/null
+
+packages=()
+command -v gfortran >/dev/null 2>&1 || packages+=(gfortran)
+have_lib lapack || packages+=(liblapack-dev)
+have_lib blas || packages+=(libblas-dev)
+command -v git >/dev/null 2>&1 || packages+=(git)
+if [ "${#packages[@]}" -gt 0 ]; then apt_install "${packages[@]}"; fi
+
+# ---------------------------------------------------------------- fpm
+fpm_version() { "$1" --version 2>/dev/null | sed -n 's/.*Version: *\([0-9][0-9.]*\).*/\1/p' | sed -n 1p || true; }
+
+# A base Python 3 (not the project's own venv) that can create a virtual environment
+# with pip; on Debian that takes the python3-venv package (PEP 668 forbids pip install
+# into the system Python, so fpm always goes into the venv).
+base_python() {
+  local py
+  for py in $(type -ap python3 2>/dev/null); do
+    case "$py" in "$venv"/*) continue ;; esac
+    if "$py" -c 'import venv, ensurepip' >/dev/null 2>&1; then echo "$py"; return 0; fi
+  done
+  return 1
+}
+
+install_fpm() {
+  local py
+  if ! "$venv/bin/python" -c 'import pip' >/dev/null 2>&1; then
+    if ! py="$(base_python)"; then
+      if command -v python3 >/dev/null 2>&1; then apt_install python3-venv; else apt_install python3 python3-venv; fi
+      py="$(base_python)" || die "no Python 3 with the venv and ensurepip modules found on PATH"
+    fi
+    rm -rf "$venv"
+    quietly "$py" -m venv "$venv" || die "could not create the virtual environment $venv with $py"
+  fi
+  quietly "$venv/bin/python" -m pip install --quiet --disable-pip-version-check "fpm==$FPM_VERSION" ||
+    die "could not install fpm $FPM_VERSION from PyPI into $venv (offline, or PyPI unreachable?)"
+  [ "$(fpm_version "$venv/bin/fpm")" = "$FPM_VERSION" ] ||
+    die "$venv/bin/fpm does not report version $FPM_VERSION after installation"
+  say "installed fpm $FPM_VERSION (PyPI) into .venv; make puts .venv/bin on PATH"
+}
+
+if [ "$(fpm_version fpm)" != "$FPM_VERSION" ] && [ "$(fpm_version "$venv/bin/fpm")" != "$FPM_VERSION" ]; then
+  install_fpm
 fi
 
-installed_fpm="$(fpm --version 2>/dev/null | sed -n 's/.*Version: *\([0-9.]*\).*/\1/p' | sed -n 1p || true)"
-if [ "$installed_fpm" != "$FPM_VERSION" ]; then
-  python3 -m pip install --quiet --disable-pip-version-check "fpm==${FPM_VERSION}"
-  if command -v pyenv >/dev/null 2>&1; then pyenv rehash; fi
-fi
-if ! command -v fpm >/dev/null 2>&1; then
-  echo "setup: fpm was installed but is not on PATH; add $(python3 -m site --user-base)/bin to PATH" >&2
-  exit 1
-fi
+# ---------------------------------------------------------------- test-drive
+# Where fpm.toml says to fetch it from (the stand-in stands in for v0.5.0)
+td_url="$(sed -n 's/^ *test-drive\.git *= *"\(.*\)".*/\1/p' "$root/fpm.toml" | sed -n 1p)"
+td_tag="$(sed -n 's/^ *test-drive\.tag *= *"\(.*\)".*/\1/p' "$root/fpm.toml" | sed -n 1p)"
+[ -n "$td_url" ] || td_url="https://github.com/fortran-lang/test-drive"
+[ -n "$td_tag" ] || td_tag="v0.5.0"
 
-# test-drive: the real one when its repository answers, our stand-in otherwise.
-dep="$root/build/dependencies/test-drive"
-if [ -d "$dep/.git" ]; then
-  echo "setup: test-drive already present in build/dependencies"
-elif timeout 20 git ls-remote --tags "$TESTDRIVE_URL" "$TESTDRIVE_TAG" >/dev/null 2>&1; then
-  echo "setup: test-drive repository reachable; fpm fetches ${TESTDRIVE_TAG} itself"
-else
-  echo "setup: test-drive repository unreachable; seeding the stand-in from tools/testdrive-standin"
-  rm -rf "$dep"
-  mkdir -p "$dep"
-  cp -R "$root/tools/testdrive-standin/." "$dep/"
+dgit() { git --git-dir="$dep/.git" --work-tree="$dep" "$@"; }
+
+# A checkout fpm can use: a commit checked out (fpm runs `git log -n 1` in it), its
+# files as committed, and the manifest of a package named test-drive. fpm's own
+# checkout of the real repository has no local tags (it fetches the tag into
+# FETCH_HEAD only), so the tag is not required here.
+usable() {
+  [ -d "$dep/.git" ] && [ -f "$dep/fpm.toml" ] || return 1
+  dgit rev-parse -q --verify 'HEAD^{commit}' >/dev/null 2>&1 || return 1
+  dgit diff --quiet HEAD -- >/dev/null 2>&1 || return 1
+  grep -Eq '^name *= *"test-drive"' "$dep/fpm.toml" || return 1
+  grep -Eiqs '^ *module +testdrive *(!.*)?$' "$dep"/src/*.[fF]90
+}
+is_standin() { [ "$(dgit log -1 --format=%s 2>/dev/null || true)" = "test-drive API stand-in (taylorode)" ]; }
+standin_current() { diff -rq --exclude=.git "$standin" "$dep" >/dev/null 2>&1; }
+reachable() { GIT_TERMINAL_PROMPT=0 timeout 20 git ls-remote --tags "$td_url" "$td_tag" >/dev/null 2>&1; }
+
+# fpm's record of the dependency (build/cache.toml), "key=value" per line
+cached_entry() {
+  [ -f "$cache" ] || return 0
+  awk '/^\[/ { in_td = ($0 == "[test-drive]"); next }
+       in_td && /=/ { k = $1; v = $0; sub(/^[^=]*= *"?/, "", v); sub(/"? *$/, "", v); print k "=" v }' "$cache"
+}
+# fpm re-fetches when its record names another repository or tag than fpm.toml, and
+# fails outright when the record points at a checkout that is gone; dropping the
+# record makes it take the checkout in build/dependencies as it is.
+cache_agrees() {
+  local entry
+  entry="$(cached_entry)"
+  [ -z "$entry" ] && return 0
+  grep -qxF "git=$td_url" <<<"$entry" && grep -qxF "obj=$td_tag" <<<"$entry" &&
+    grep -qxF "proj-dir=$dep_rel" <<<"$entry"
+}
+forget_cached_entry() { rm -f "$cache"; }
+
+seed_standin() {
+  local tmp
+  mkdir -p "$(dirname "$dep")"
+  tmp="$(mktemp -d "$dep.seed.XXXXXX")"
+  cp -R "$standin/." "$tmp/"
   (
-    cd "$dep"
-    git init -q
-    git config user.email "setup@taylorode.invalid"
-    git config user.name "taylorode setup"
+    cd "$tmp"
+    export GIT_AUTHOR_NAME="taylorode setup" GIT_AUTHOR_EMAIL="setup@taylorode.invalid"
+    export GIT_COMMITTER_NAME="$GIT_AUTHOR_NAME" GIT_COMMITTER_EMAIL="$GIT_AUTHOR_EMAIL"
+    export GIT_AUTHOR_DATE="2000-01-01T00:00:00Z" GIT_COMMITTER_DATE="2000-01-01T00:00:00Z"
+    git -c init.defaultBranch=main init -q
     git add -A
-    git commit -q -m "test-drive API stand-in (taylorode)"
-    git tag "$TESTDRIVE_TAG"
-    git remote add origin "$TESTDRIVE_URL"
-  )
-fi
+    git -c commit.gpgsign=false commit -q --no-verify -m "test-drive API stand-in (taylorode)"
+    git -c tag.gpgsign=false tag "$td_tag"
+  ) >/dev/null 2>&1 || { rm -rf "$tmp"; die "could not create the git repository of the test-drive stand-in"; }
+  rm -rf "$dep"
+  mv "$tmp" "$dep"
+  forget_cached_entry
+}
 
-gfortran --version | sed -n 1p
-fpm --version | sed -n 1p
+if usable; then
+  if is_standin && ! standin_current; then
+    seed_standin
+    say "updated the test-drive stand-in in $dep_rel (tools/testdrive-standin changed)"
+  elif ! cache_agrees; then
+    if reachable; then
+      :   # fpm fetches the tag fpm.toml asks for
+    elif ! is_standin; then
+      seed_standin
+      say "fpm.toml asks for test-drive $td_tag, unreachable; seeded the stand-in into $dep_rel"
+    else
+      forget_cached_entry
+      say "dropped fpm's stale record of test-drive (build/cache.toml); it re-reads $dep_rel"
+    fi
+  fi
+else
+  broken=0
+  [ -e "$dep" ] && broken=1
+  rm -rf "$dep"
+  forget_cached_entry
+  if reachable; then
+    [ "$broken" -eq 0 ] || say "removed a broken $dep_rel; fpm fetches test-drive $td_tag itself"
+  else
+    seed_standin
+    if [ "$broken" -eq 1 ]; then
+      say "$dep_rel was broken and test-drive is unreachable: seeded the stand-in (tools/testdrive-standin)"
+    else
+      say "test-drive is unreachable: seeded the stand-in (tools/testdrive-standin) into $dep_rel"
+    fi
+  fi
+fi

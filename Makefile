@@ -1,0 +1,73 @@
+# taylorode: every target but help first runs tools/setup.sh, which installs whatever is
+# missing (gfortran, LAPACK/BLAS, fpm 0.12.0, the test-drive dev-dependency) and
+# prints nothing when nothing is.
+#
+#   make run             the main job: the paper's Table 1 (fpm run --profile release)
+#   make test            every test suite (fpm test); the last line is "N passed, N failed"
+#   make test-checked    the tests with run-time checks and floating-point traps
+#   make test-sanitize   the tests under AddressSanitizer and UBSan
+#   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
+#
+# ARGS is passed to the program: make test ARGS="schemes", make run ARGS="vdp --help".
+# Each flag set builds in its own build/gfortran_<hash> directory.
+
+SHELL := /bin/bash
+FPM_VERSION := 0.12.0
+
+# Without fpm $(FPM_VERSION) on PATH, use the one tools/setup.sh installs into .venv.
+ifneq ($(shell fpm --version 2>/dev/null | grep -cE 'Version: *$(FPM_VERSION)([^0-9.]|$$)'),1)
+export PATH := $(CURDIR)/.venv/bin:$(PATH)
+endif
+
+# Added to the debug profile's flags (fpm's --flag replaces them unless --profile is given)
+CHECKED_FLAGS := -fcheck=all -ffpe-trap=invalid,zero,overflow
+SANITIZE_FLAGS := -fsanitize=address,undefined
+
+args = $(if $(ARGS),-- $(ARGS))
+
+# fpm test with options $(1); the test driver's "N passed, N failed" stays the last
+# line of output even when fpm reports failed executions after it. If the test
+# program stops before printing it, the line is made from the reported outcomes,
+# counting the stopped run as one more failure.
+define fpm_test
+	@log="$$(mktemp)"; trap 'rm -f "$$log"' EXIT; \
+	fpm test $(1) $(args) 2>&1 | tee "$$log"; status=$${PIPESTATUS[0]}; \
+	summary="$$(grep -E '^[0-9]+ passed, [0-9]+ failed$$' "$$log" | tail -n 1)"; \
+	if [ -z "$$summary" ]; then \
+	  passed=$$(grep -cE '\[(PASSED|EXPECTED FAIL)\]$$' "$$log"); \
+	  failed=$$(grep -cE '\[(FAILED|UNEXPECTED PASS)\]$$' "$$log"); \
+	  echo "make: the test program stopped before its summary (exit status $$status)" >&2; \
+	  echo "$$passed passed, $$((failed + 1)) failed"; \
+	  [ "$$status" -ne 0 ] || status=1; \
+	elif [ "$$(tail -n 1 "$$log")" != "$$summary" ]; then \
+	  echo "$$summary"; \
+	fi; \
+	exit $$status
+endef
+
+.PHONY: help setup run test test-checked test-sanitize build
+
+help:
+	@sed -n '/^#   make/s/^# *//p' Makefile
+
+setup:
+	@bash tools/setup.sh
+
+run: setup
+	@fpm run --profile release $(args)
+
+test: setup
+	$(call fpm_test)
+
+test-checked: setup
+	$(call fpm_test,--profile debug --flag "$(CHECKED_FLAGS)")
+
+# gfortran 12 leaks the allocatable components of array-constructor temporaries (the
+# test suites' lists of tests): LeakSanitizer is off unless ASAN_OPTIONS says otherwise.
+test-sanitize: export ASAN_OPTIONS ?= detect_leaks=0
+test-sanitize: setup
+	$(call fpm_test,--profile debug --flag "$(SANITIZE_FLAGS)" --c-flag "$(SANITIZE_FLAGS)" --link-flag "$(SANITIZE_FLAGS)")
+
+build: setup
+	fpm build
+	fpm build --profile release
