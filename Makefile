@@ -5,7 +5,8 @@
 #   make run             the main job: the paper's Table 1 (fpm run --profile release)
 #   make test            every test suite (fpm test); the last line is "N passed, N failed"
 #   make test-checked    the tests with run-time checks and floating-point traps
-#   make test-sanitize   the tests under AddressSanitizer and UBSan
+#   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
+#   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #
 # ARGS is passed to the program: make test ARGS="schemes", make run ARGS="vdp --help".
@@ -21,7 +22,8 @@ endif
 
 # Added to the debug profile's flags (fpm's --flag replaces them unless --profile is given)
 CHECKED_FLAGS := -fcheck=all -ffpe-trap=invalid,zero,overflow
-SANITIZE_FLAGS := -fsanitize=address,undefined
+SANITIZE_FLAGS := -fsanitize=address,undefined -fopenmp
+THREADS_FLAGS := -fopenmp
 
 args = $(if $(ARGS),-- $(ARGS))
 
@@ -45,7 +47,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize build
+.PHONY: help setup run test test-checked test-sanitize test-threads build
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -67,6 +69,9 @@ test-checked: setup
 test-sanitize: export ASAN_OPTIONS ?= detect_leaks=0
 test-sanitize: setup
 	$(call fpm_test,--profile debug --flag "$(SANITIZE_FLAGS)" --c-flag "$(SANITIZE_FLAGS)" --link-flag "$(SANITIZE_FLAGS)")
+
+test-threads: setup
+	$(call fpm_test,--profile debug --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)")
 
 build: setup
 	fpm build

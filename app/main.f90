@@ -8,7 +8,7 @@
 !> any work starts and every file is written to a temporary file and renamed into
 !> place when complete.
 program taylorode_app
-   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use, intrinsic :: iso_fortran_env, only: error_unit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
       status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
@@ -110,9 +110,11 @@ program taylorode_app
    character(len=:), allocatable :: args(:)
    !> A check of the command failed (stability, extreme)
    logical :: checks_failed = .false.
-   !> Writing to standard output failed
-   logical :: stdout_failed = .false.
+   !> Standard output, written through write(2) so that every failure is seen
+   type(text_file_type) :: stdout
    integer :: io
+
+   call stdout%attach(1, "standard output")
 
    call read_arguments(args)
    call parse_command_line(args, request, stat)
@@ -160,18 +162,17 @@ contains
    !> Print a line of the report on standard output (failures are remembered).
    subroutine say(line)
       character(len=*), intent(in) :: line
-      integer :: io_status
-      write (output_unit, '(a)', iostat=io_status) line
-      if (io_status /= 0) stdout_failed = .true.
+      call stdout%write_line(line)
+      call stdout%flush()
    end subroutine say
 
-   !> Flush standard output; a failure to write it is an error (exit status 1).
+   !> Close standard output; a failure to write it is an error (exit status 1).
    subroutine finish_output()
+      type(status_type) :: output_stat
       integer :: io_status
-      flush (output_unit, iostat=io_status)
-      if (io_status /= 0) stdout_failed = .true.
-      if (stdout_failed) then
-         write (error_unit, '(a)', iostat=io_status) "taylorode: cannot write to standard output"
+      call stdout%commit(output_stat)
+      if (output_stat%code /= status_ok) then
+         write (error_unit, '(a)', iostat=io_status) "taylorode: "//output_stat%message
          stop 1, quiet=.true.
       end if
    end subroutine finish_output
@@ -1333,7 +1334,7 @@ contains
       type(timed_run_type) :: run, run_no_reuse
       real(dp) :: per_step, lapack_seconds, base_per_unknown
       integer :: k, table, points, decade
-      character(len=:), allocatable :: name
+      character(len=:), allocatable :: name, relative
 
       table = new_table(tables, "bench.csv", "problem,scheme,unknowns,accepted,seconds,ns_per_step,"// &
          "f_evaluations,g_evaluations,jacobian_evaluations,lu_factorizations,status,peak_memory_kib")
@@ -1397,12 +1398,12 @@ contains
             merge(request%repeats, 1, points <= 1000), run)
          per_step = 1.0e9_dp*run%cpu_median/real(max(run%stats%accepted_steps, 1_i8), dp)
          if (points == 1000) base_per_unknown = per_step/real(2*points, dp)
+         relative = "-"
+         if (base_per_unknown > 0.0_dp) relative = format_fixed(per_step/real(2*points, dp)/base_per_unknown, 2)
          call say(pad(format_integer(points), 8)//pad(format_integer(2*points), 10)// &
             pad(format_count(run%stats%accepted_steps), 10)//pad(format_fixed(run%cpu_median, 3), 10)// &
             pad(format_fixed(per_step/1000.0_dp, 1), 11)//pad(format_fixed(per_step/real(2*points, dp), 1), 17)// &
-            pad(choose(base_per_unknown > 0.0_dp, format_fixed(per_step/real(2*points, dp)/ &
-            max(base_per_unknown, tiny(1.0_dp)), 2), "-"), 11)// &
-            pad(format_fixed(real(peak_memory_kib(), dp)/1024.0_dp, 1), 10))
+            pad(relative, 11)//pad(format_fixed(real(peak_memory_kib(), dp)/1024.0_dp, 1), 10))
          call add_bench_row(tables(table), "brusselator", "si-t-2", 2*points, run, per_step)
       end do
       stat%code = status_ok

@@ -23,7 +23,8 @@ module taylorode
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, status_name, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_singular_matrix, status_newton_diverged, &
-      status_newton_not_converged, status_step_underflow, status_max_steps, status_unknown_scheme
+      status_newton_not_converged, status_step_underflow, status_max_steps, status_unknown_scheme, &
+      status_evaluation_failed, status_output_error, status_description
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
    use taylorode_problem_ode, only: ode_problem, ode_problem_fd
@@ -34,7 +35,8 @@ module taylorode
    use taylorode_integrate_options, only: integrator_options_type, paper_options, norm_max, norm_rms, &
       advance_scheme, advance_high, advance_low
    use taylorode_integrate_history, only: step_history_type, write_history_csv, attempt_accepted, &
-      attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, attempt_name
+      attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, &
+      attempt_name
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrate
    implicit none
@@ -43,7 +45,8 @@ module taylorode
    public :: dp, i8
    public :: status_type, status_name, status_ok, status_invalid_argument, status_size_mismatch, &
       status_nonfinite, status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
-      status_step_underflow, status_max_steps, status_unknown_scheme
+      status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
+      status_output_error, status_description
    public :: ode_problem, ode_problem_fd, matrix_structure_type, dense_structure, band_structure
    public :: scheme_type, counters_type, new_scheme, scheme_names, scheme_count
    public :: integrate_fixed
@@ -51,6 +54,6 @@ module taylorode
    public :: controller_i, controller_pi, controller_pid, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
    public :: step_history_type, write_history_csv, attempt_accepted, attempt_rejected_error, &
-      attempt_failed_newton, attempt_failed_nonfinite, attempt_name
+      attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, attempt_name
 
 end module taylorode

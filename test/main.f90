@@ -2,12 +2,13 @@
 !> (`fpm test -- <suite> <test>`), and closes with the line "N passed, N failed".
 program tester
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
-   use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type
+   use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type, get_argument
    use test_app, only: collect_app
    use test_base, only: collect_base
    use test_integrator, only: collect_integrator
    use test_problems, only: collect_problems
    use test_reference, only: collect_reference
+   use test_robustness, only: collect_robustness
    use test_schemes, only: collect_schemes
    implicit none
 
@@ -22,7 +23,8 @@ program tester
       new_testsuite("schemes", collect_schemes), &
       new_testsuite("integrator", collect_integrator), &
       new_testsuite("reference", collect_reference), &
-      new_testsuite("app", collect_app) &
+      new_testsuite("app", collect_app), &
+      new_testsuite("robustness", collect_robustness) &
       ]
    passed = 0
    failed = 0
@@ -38,7 +40,8 @@ program tester
          do is = 1, size(suites)
             write (error_unit, fmt) "-", suites(is)%name
          end do
-         error stop 1
+         write (output_unit, '(i0, " passed, ", i0, " failed")') 0, 1
+         stop 1, quiet=.true.
       end if
       call run_suite(suites(is), test_name)
    else
@@ -48,7 +51,7 @@ program tester
    end if
 
    write (output_unit, '(i0, " passed, ", i0, " failed")') passed, failed
-   if (failed > 0) error stop 1
+   if (failed > 0) stop 1, quiet=.true.
 
 contains
 
@@ -75,20 +78,12 @@ contains
       end do
       if (present(only) .and. passed + failed == 0) then
          write (error_unit, fmt) "Unknown test:", only
+         write (error_unit, fmt) "Tests of "//suite%name//":"
+         do it = 1, size(tests)
+            write (error_unit, fmt) "-", tests(it)%name
+         end do
          failed = 1
       end if
    end subroutine run_suite
-
-   !> The idx-th command-line argument, unallocated when absent.
-   subroutine get_argument(idx, arg)
-      integer, intent(in) :: idx
-      character(len=:), allocatable, intent(out) :: arg
-      integer :: length, stat
-      call get_command_argument(idx, length=length, status=stat)
-      if (stat /= 0 .or. length == 0) return
-      allocate (character(len=length) :: arg)
-      call get_command_argument(idx, arg, status=stat)
-      if (stat /= 0) deallocate (arg)
-   end subroutine get_argument
 
 end program tester

@@ -3,24 +3,12 @@
 !> terminal report and CSV files on small problem sizes.
 module test_app
    use testdrive, only: new_unittest, unittest_type, error_type, check
+   use test_support, only: scratch, line_type, run_type, run_app, read_lines, has_line, count_separators, &
+      file_exists, fresh_scratch
    implicit none
    private
 
    public :: collect_app
-
-   !> Scratch directory of these tests (inside the build tree)
-   character(len=*), parameter :: scratch = "build/test-app"
-
-   !> One line of a captured output
-   type :: line_type
-      character(len=:), allocatable :: text
-   end type line_type
-
-   !> What one run of the app printed and returned
-   type :: run_type
-      integer :: exit_status = -1
-      type(line_type), allocatable :: stdout(:), stderr(:)
-   end type run_type
 
 contains
 
@@ -41,93 +29,6 @@ contains
          new_unittest("output-files", test_output_files) &
          ]
    end subroutine collect_app
-
-   !> The app built beside this test program (fpm puts both under the same profile directory).
-   function app_path() result(path)
-      character(len=:), allocatable :: path
-      character(len=4096) :: self
-      integer :: slash
-      call get_command_argument(0, self)
-      slash = index(self, "/test/", back=.true.)
-      if (slash == 0) then
-         path = "taylorode"
-      else
-         path = self(:slash)//"app/taylorode"
-      end if
-   end function app_path
-
-   !> Run the app with `arguments` (fixed text of these tests) and capture its output.
-   subroutine run_app(arguments, run)
-      character(len=*), intent(in) :: arguments
-      type(run_type), intent(out) :: run
-      integer :: command_status
-      call execute_command_line("mkdir -p "//scratch)
-      call execute_command_line(app_path()//" "//arguments//" > "//scratch//"/stdout 2> "//scratch//"/stderr", &
-         exitstat=run%exit_status, cmdstat=command_status)
-      if (command_status /= 0) run%exit_status = -1
-      call read_lines(scratch//"/stdout", run%stdout)
-      call read_lines(scratch//"/stderr", run%stderr)
-   end subroutine run_app
-
-   !> Every line of a text file (none when it does not exist).
-   subroutine read_lines(path, lines)
-      character(len=*), intent(in) :: path
-      type(line_type), allocatable, intent(out) :: lines(:)
-      type(line_type), allocatable :: grown(:)
-      character(len=4096) :: buffer
-      integer :: unit, io, count, length
-      allocate (lines(0))
-      open (newunit=unit, file=path, status="old", action="read", iostat=io)
-      if (io /= 0) return
-      count = 0
-      do
-         read (unit, '(a)', iostat=io, size=length, advance="no") buffer
-         if (is_iostat_end(io)) exit
-         if (count == size(lines)) then
-            allocate (grown(max(16, 2*count)))
-            grown(:count) = lines(:count)
-            call move_alloc(grown, lines)
-         end if
-         count = count + 1
-         lines(count)%text = buffer(:length)
-      end do
-      close (unit)
-      lines = lines(:count)
-   end subroutine read_lines
-
-   !> Whether any line contains `text`.
-   logical function has_line(lines, text)
-      type(line_type), intent(in) :: lines(:)
-      character(len=*), intent(in) :: text
-      integer :: k
-      has_line = .false.
-      do k = 1, size(lines)
-         if (index(lines(k)%text, text) > 0) has_line = .true.
-      end do
-   end function has_line
-
-   !> Field separators: commas outside double quotes.
-   integer function count_separators(text)
-      character(len=*), intent(in) :: text
-      integer :: k
-      logical :: quoted
-      count_separators = 0
-      quoted = .false.
-      do k = 1, len(text)
-         if (text(k:k) == '"') quoted = .not. quoted
-         if (.not. quoted .and. text(k:k) == ",") count_separators = count_separators + 1
-      end do
-   end function count_separators
-
-   logical function file_exists(path)
-      character(len=*), intent(in) :: path
-      inquire (file=path, exist=file_exists)
-   end function file_exists
-
-   !> A fresh scratch directory for output files.
-   subroutine fresh_scratch()
-      call execute_command_line("rm -rf "//scratch//" && mkdir -p "//scratch//"/out")
-   end subroutine fresh_scratch
 
    !> No command runs the paper's table and writes no file.
    subroutine test_default_command(error)

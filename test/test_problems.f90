@@ -5,6 +5,7 @@ module test_problems
    use taylorode, only: dp, ode_problem, ode_problem_fd, scheme_type, status_type, new_scheme, &
       integrate_fixed, status_ok, integrate, integrator_options_type, integration_stats_type, &
       matrix_structure_type, dense_structure
+   use test_support, only: differenced_brusselator
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
       linear_test_type, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, new_test_problem, &
       test_problem_names, test_problem_count, brusselator_type, new_brusselator
@@ -22,18 +23,6 @@ module test_problems
    contains
       procedure :: jacobian_structure => dense_jacobian_structure
    end type dense_brusselator
-
-   !> The Brusselator with bandwidths but no analytic band Jacobians: the band
-   !> Jacobians come from the library's grouped finite differences
-   type, extends(ode_problem) :: differenced_brusselator
-      type(brusselator_type) :: model
-   contains
-      procedure :: f => differenced_f
-      procedure :: g => differenced_g
-      procedure :: jac_f => differenced_jac_f
-      procedure :: jac_g => differenced_jac_g
-      procedure :: jacobian_structure => differenced_structure
-   end type differenced_brusselator
 
    !> Van der Pol written as a user without Jacobians would: f and g only
    type, extends(ode_problem_fd) :: vdp_without_jacobians
@@ -301,41 +290,6 @@ contains
       type(matrix_structure_type) :: structure
       structure = dense_structure()
    end function dense_jacobian_structure
-
-   subroutine differenced_f(self, t, u, dudt)
-      class(differenced_brusselator), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: dudt(:)
-      call self%model%f(t, u, dudt)
-   end subroutine differenced_f
-
-   subroutine differenced_g(self, t, u, dudt)
-      class(differenced_brusselator), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: dudt(:)
-      call self%model%g(t, u, dudt)
-   end subroutine differenced_g
-
-   subroutine differenced_jac_f(self, t, u, jac)
-      class(differenced_brusselator), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: jac(:, :)
-      call self%model%jac_f(t, u, jac)
-   end subroutine differenced_jac_f
-
-   subroutine differenced_jac_g(self, t, u, jac)
-      class(differenced_brusselator), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: jac(:, :)
-      call self%model%jac_g(t, u, jac)
-   end subroutine differenced_jac_g
-
-   function differenced_structure(self, n) result(structure)
-      class(differenced_brusselator), intent(in) :: self
-      integer, intent(in) :: n
-      type(matrix_structure_type) :: structure
-      structure = self%model%jacobian_structure(n)
-   end function differenced_structure
 
    subroutine test_unknown_problem(error)
       type(error_type), allocatable, intent(out) :: error

@@ -10,6 +10,7 @@ module test_schemes
       scheme_count, integrate_fixed, status_ok, status_size_mismatch, status_invalid_argument, status_nonfinite, &
       status_unknown_scheme, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    implicit none
    private
 
@@ -275,8 +276,7 @@ contains
       type(status_type) :: stat
       real(dp) :: u1(2), u_short(1), u(2), nan
 
-      nan = 0.0_dp
-      nan = nan/nan
+      nan = ieee_value(1.0_dp, ieee_quiet_nan)
       problem = new_van_der_pol(10.0_dp)
       call new_scheme("i-t-2", scheme, stat)
 

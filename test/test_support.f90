@@ -1,13 +1,139 @@
 !> Helpers shared by the test suites: an independent reference solver and
 !> message formatting.
 module test_support
-   use taylorode, only: dp, ode_problem, status_type
+   use taylorode, only: dp, ode_problem, status_type, matrix_structure_type
+   use taylorode_testset, only: brusselator_type
    implicit none
    private
 
-   public :: rk4_reference, stat_message
+   public :: rk4_reference, stat_message, differenced_brusselator
+   public :: scratch, line_type, run_type, run_app, read_lines, has_line, count_separators, file_exists, &
+      fresh_scratch, app_path, run_command
+
+   !> The Brusselator with bandwidths but no analytic band Jacobians: the band
+   !> Jacobians come from the library's grouped finite differences
+   type, extends(ode_problem) :: differenced_brusselator
+      type(brusselator_type) :: model
+   contains
+      procedure :: f => differenced_f
+      procedure :: g => differenced_g
+      procedure :: jac_f => differenced_jac_f
+      procedure :: jac_g => differenced_jac_g
+      procedure :: jacobian_structure => differenced_structure
+   end type differenced_brusselator
+
+   !> Scratch directory of the tests that run programs and write files (inside the build tree)
+   character(len=*), parameter :: scratch = "build/test-app"
+
+   !> One line of a captured output
+   type :: line_type
+      character(len=:), allocatable :: text
+   end type line_type
+
+   !> What one run of the app printed and returned
+   type :: run_type
+      integer :: exit_status = -1
+      type(line_type), allocatable :: stdout(:), stderr(:)
+   end type run_type
 
 contains
+
+   !> The app built beside this test program (fpm puts both under the same profile directory).
+   function app_path() result(path)
+      character(len=:), allocatable :: path
+      character(len=4096) :: self
+      integer :: slash
+      call get_command_argument(0, self)
+      slash = index(self, "/test/", back=.true.)
+      if (slash == 0) then
+         path = "taylorode"
+      else
+         path = self(:slash)//"app/taylorode"
+      end if
+   end function app_path
+
+   !> Run the app with `arguments` (fixed text of the tests, read by a shell) and
+   !> capture its output.
+   subroutine run_app(arguments, run)
+      character(len=*), intent(in) :: arguments
+      type(run_type), intent(out) :: run
+      call run_command(app_path()//" "//arguments, run)
+   end subroutine run_app
+
+   !> Run a shell command line of the tests (which may name the app through
+   !> app_path()) and capture what it prints; its own redirections come first.
+   subroutine run_command(command_line, run)
+      character(len=*), intent(in) :: command_line
+      type(run_type), intent(out) :: run
+      integer :: command_status
+      call execute_command_line("mkdir -p "//scratch)
+      call execute_command_line("{ "//command_line//" ; } > "//scratch//"/stdout 2> "//scratch//"/stderr", &
+         exitstat=run%exit_status, cmdstat=command_status)
+      if (command_status /= 0) run%exit_status = -1
+      call read_lines(scratch//"/stdout", run%stdout)
+      call read_lines(scratch//"/stderr", run%stderr)
+   end subroutine run_command
+
+   !> Every line of a text file (none when it does not exist).
+   subroutine read_lines(path, lines)
+      character(len=*), intent(in) :: path
+      type(line_type), allocatable, intent(out) :: lines(:)
+      type(line_type), allocatable :: grown(:)
+      character(len=4096) :: buffer
+      integer :: unit, io, count, length
+      allocate (lines(0))
+      open (newunit=unit, file=path, status="old", action="read", iostat=io)
+      if (io /= 0) return
+      count = 0
+      do
+         read (unit, '(a)', iostat=io, size=length, advance="no") buffer
+         if (is_iostat_end(io)) exit
+         if (count == size(lines)) then
+            allocate (grown(max(16, 2*count)))
+            grown(:count) = lines(:count)
+            call move_alloc(grown, lines)
+         end if
+         count = count + 1
+         lines(count)%text = buffer(:length)
+      end do
+      close (unit)
+      lines = lines(:count)
+   end subroutine read_lines
+
+   !> Whether any line contains `text`.
+   logical function has_line(lines, text)
+      type(line_type), intent(in) :: lines(:)
+      character(len=*), intent(in) :: text
+      integer :: k
+      has_line = .false.
+      do k = 1, size(lines)
+         if (index(lines(k)%text, text) > 0) has_line = .true.
+      end do
+   end function has_line
+
+   !> Field separators: commas outside double quotes.
+   integer function count_separators(text)
+      character(len=*), intent(in) :: text
+      integer :: k
+      logical :: quoted
+      count_separators = 0
+      quoted = .false.
+      do k = 1, len(text)
+         if (text(k:k) == '"') quoted = .not. quoted
+         if (.not. quoted .and. text(k:k) == ",") count_separators = count_separators + 1
+      end do
+   end function count_separators
+
+   logical function file_exists(path)
+      character(len=*), intent(in) :: path
+      inquire (file=path, exist=file_exists)
+   end function file_exists
+
+   !> A fresh scratch directory for output files.
+   subroutine fresh_scratch()
+      call execute_command_line("rm -rf "//scratch//" && mkdir -p "//scratch//"/out")
+   end subroutine fresh_scratch
+
 
    !> Classical RK4 with 20000 steps: global error ~ 1e-17 * C, far below what the
    !> order tests resolve (their smallest errors are ~1e-7).
@@ -38,6 +164,41 @@ contains
          dudt = dudt + gu
       end subroutine full_rhs
    end function rk4_reference
+
+   subroutine differenced_f(self, t, u, dudt)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call self%model%f(t, u, dudt)
+   end subroutine differenced_f
+
+   subroutine differenced_g(self, t, u, dudt)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call self%model%g(t, u, dudt)
+   end subroutine differenced_g
+
+   subroutine differenced_jac_f(self, t, u, jac)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      call self%model%jac_f(t, u, jac)
+   end subroutine differenced_jac_f
+
+   subroutine differenced_jac_g(self, t, u, jac)
+      class(differenced_brusselator), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      call self%model%jac_g(t, u, jac)
+   end subroutine differenced_jac_g
+
+   function differenced_structure(self, n) result(structure)
+      class(differenced_brusselator), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      structure = self%model%jacobian_structure(n)
+   end function differenced_structure
 
    !> The status message, or "ok".
    function stat_message(stat) result(message)

@@ -7,7 +7,7 @@ module taylorode_base_status
    implicit none
    private
 
-   public :: status_type, set_status, status_name
+   public :: status_type, set_status, set_code, describe, status_name
    public :: status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
       status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
@@ -70,6 +70,28 @@ contains
       stat%code = code
       stat%message = message
    end subroutine set_status
+
+   !> Record an outcome by its code alone, without building a message: what a step
+   !> attempt does inside an integration, where a failure is retried and allocating
+   !> a message each time would cost a heap allocation. `describe` adds the message.
+   elemental subroutine set_code(stat, code)
+      !> Status to overwrite
+      type(status_type), intent(inout) :: stat
+      !> One of the `status_*` constants
+      integer, intent(in) :: code
+      stat%code = code
+      if (allocated(stat%message)) deallocate (stat%message)
+   end subroutine set_code
+
+   !> Give a failure that carries only its code the standard sentence for that code.
+   pure subroutine describe(stat, prefix)
+      !> The status
+      type(status_type), intent(inout) :: stat
+      !> Who reports it, e.g. "take_step"
+      character(len=*), intent(in) :: prefix
+      if (stat%code == status_ok .or. allocated(stat%message)) return
+      stat%message = prefix//": "//trim(status_description(stat%code))
+   end subroutine describe
 
    !> Short name of a status code, for tables and logs.
    pure function status_name(code) result(name)

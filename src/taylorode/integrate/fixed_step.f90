@@ -1,8 +1,8 @@
 !> Fixed-step integration, for convergence studies and for users who choose h themselves.
 module taylorode_integrate_fixed_step
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
-      status_nonfinite
+   use taylorode_base_status, only: status_type, set_status, set_code, status_description, status_ok, &
+      status_invalid_argument, status_nonfinite, status_evaluation_failed
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, default_newton_settings
@@ -39,7 +39,7 @@ contains
       real(dp), allocatable :: u_new(:)
       type(newton_settings_type) :: newton
       integer :: i
-      character(len=24) :: where
+      character(len=160) :: where
 
       t = t0
       if (present(t_reached)) t_reached = t0
@@ -59,13 +59,17 @@ contains
       do i = 2, n_steps
          t = t0 + real(i - 1, dp)*h
          call default_newton_settings(u, newton)
+         call problem%clear_rejection()
          call scheme%advance(problem, t, h, u, u_new, newton, stat)
-         if (stat%code == status_ok .and. .not. all(ieee_is_finite(u_new))) then
-            call set_status(stat, status_nonfinite, "integrate_fixed: the state became NaN or Inf")
+         if (problem%evaluation_rejected()) then
+            call set_code(stat, status_evaluation_failed)
+         else if (stat%code == status_ok .and. .not. all(ieee_is_finite(u_new))) then
+            call set_code(stat, status_nonfinite)
          end if
          if (stat%code /= status_ok) then
-            write (where, '(es24.16)') t
-            stat%message = stat%message//" (step from t = "//trim(adjustl(where))//")"
+            write (where, '(a, ": ", a, " (step from t = ", es24.16, ")")') "integrate_fixed", &
+               trim(status_description(stat%code)), t
+            stat%message = trim(where)
             if (present(t_reached)) t_reached = t
             return
          end if

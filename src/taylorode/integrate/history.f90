@@ -77,6 +77,14 @@ contains
       !> attempt_* outcome
       integer, intent(in) :: outcome
       character(len=:), allocatable :: name
+      name = trim(outcome_word(outcome))
+   end function attempt_name
+
+   !> The same word in a fixed-length result (what the row writer uses: deferred-length
+   !> results inside expressions are not thread-safe with gfortran 12).
+   pure function outcome_word(outcome) result(name)
+      integer, intent(in) :: outcome
+      character(len=17) :: name
       select case (outcome)
       case (attempt_accepted); name = "accepted"
       case (attempt_rejected_error); name = "rejected_error"
@@ -85,7 +93,7 @@ contains
       case (attempt_failed_evaluation); name = "failed_evaluation"
       case default; name = "unknown"
       end select
-   end function attempt_name
+   end function outcome_word
 
    !> Begin an integration: in memory, forget what earlier integrations recorded; in a
    !> stream, write the header once (a stream may collect several integrations with the
@@ -104,7 +112,7 @@ contains
             return
          end if
          self%state_columns = state_columns
-         call self%stream%write_line(header//state_names(state_columns))
+         call write_header(self%stream, state_columns)
          self%header_written = .true.
          return
       end if
@@ -115,18 +123,19 @@ contains
       if (allocated(self%states)) deallocate (self%states)
    end subroutine start
 
-   !> ",u1,u2,...,uN"
-   pure function state_names(columns) result(names)
+   !> The header line: step,t,h,err,outcome,newton_iterations,u1,u2,...
+   subroutine write_header(file, columns)
+      type(text_file_type), intent(inout) :: file
       integer, intent(in) :: columns
-      character(len=:), allocatable :: names
       character(len=16) :: name
       integer :: j
-      names = ""
+      call file%write_part(header)
       do j = 1, columns
          write (name, '(",u", i0)') j
-         names = names//trim(name)
+         call file%write_part(trim(name))
       end do
-   end function state_names
+      call file%write_line("")
+   end subroutine write_header
 
    !> Append one attempt; the state is stored only when the history has state columns.
    subroutine record(self, t, h, err, outcome, newton_iterations, state)
@@ -207,7 +216,7 @@ contains
       character(len=160) :: fields
       character(len=32) :: value
       integer :: j
-      write (fields, '(i0, 3(",", es24.16e3), ",", a, ",", i0)') step, t, h, err, attempt_name(outcome), &
+      write (fields, '(i0, 3(",", es24.16e3), ",", a, ",", i0)') step, t, h, err, trim(outcome_word(outcome)), &
          newton_iterations
       if (size(state) == 0) then
          call file%write_line(trim(fields))
@@ -245,7 +254,7 @@ contains
       !> status_output_error on failure
       type(status_type), intent(inout) :: stat
       if (.not. self%streaming) return
-      if (.not. self%header_written) call self%stream%write_line(header)
+      if (.not. self%header_written) call write_header(self%stream, 0)
       call self%stream%commit(stat)
       self%streaming = .false.
    end subroutine finish
@@ -272,7 +281,7 @@ contains
 
       call file%open(filename, stat)
       if (stat%code /= status_ok) return
-      call file%write_line(header//state_names(history%state_columns))
+      call write_header(file, history%state_columns)
       do i = 1, history%count
          if (history%state_columns > 0) then
             call write_row(file, i, history%t(i), history%h(i), history%err(i), history%outcome(i), &

@@ -4,9 +4,9 @@
 module taylorode_integrate_integrator
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
-      status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps
+      status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
+      status_output_error, status_description
    use taylorode_base_counters, only: counters_type
-   use taylorode_base_strings, only: format_integer, format_real
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs
    use taylorode_integrate_options, only: integrator_options_type, validate_options
@@ -14,7 +14,7 @@ module taylorode_integrate_integrator
    use taylorode_integrate_stepper, only: stepper_type
    use taylorode_integrate_dense_output, only: dense_output_type
    use taylorode_integrate_history, only: step_history_type, attempt_accepted, attempt_rejected_error, &
-      attempt_failed_nonfinite
+      attempt_failed_nonfinite, attempt_failed_evaluation
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -37,6 +37,13 @@ contains
    !> from the cubic Hermite interpolant of each accepted step. With `history`
    !> every attempted step is recorded. Backward integration (t_end < t0) is not
    !> supported: substitute s = -t.
+   !>
+   !> Failed attempts (Newton failure, NaN or Inf, an evaluation the problem rejected)
+   !> are retried from the same state with a quarter of the step; the integration
+   !> gives up after options%max_failures consecutive ones, or after as many NaN/Inf
+   !> or rejected evaluations without getting past the point where the first of them
+   !> happened (status_nonfinite, status_evaluation_failed). Messages are built in
+   !> fixed-length buffers, so concurrent integrations on separate objects are safe.
    subroutine integrate(problem, scheme, t0, t_end, u, options, stats, stat, history, t_out, u_out)
       !> The problem
       class(ode_problem), intent(inout) :: problem
@@ -66,11 +73,12 @@ contains
       type(stepper_type) :: stepper
       type(dense_output_type) :: output
       real(dp), allocatable :: scratch(:)
-      real(dp) :: t, h, h_next, err, nan
+      real(dp) :: t, h, h_next, err, nan, trouble_end
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
-      integer :: failures, n, outcome
+      integer :: failures, troubles, n, outcome
       logical :: last
+      character(len=400) :: text
 
       call system_clock(clock_start, clock_rate)
       call cpu_time(cpu_start)
@@ -97,28 +105,44 @@ contains
       allocate (scratch(n))
 
       t = t0
-      if (present(t_out)) then
-         call evaluate_rhs(problem, t, u, stepper%u_new, scratch, scheme%counters)
-         call output%start(t0, u, stepper%u_new, t_out, u_out)
+      if (present(t_out) .or. options%h0 == 0.0_dp) then
+         ! F(t0, U0) serves dense output and the first step size: it must be usable
+         call problem%clear_rejection()
+         call evaluate_rhs(problem, t, u, stepper%delta, scratch, scheme%counters)
+         if (problem%evaluation_rejected()) then
+            call set_status(stat, status_evaluation_failed, &
+               "integrate: the problem cannot evaluate f or g at the initial state")
+         else if (.not. all(ieee_is_finite(stepper%delta))) then
+            call set_status(stat, status_nonfinite, "integrate: f or g is NaN or Inf at the initial state")
+         end if
+         if (stat%code /= status_ok) then
+            call finish()
+            return
+         end if
       end if
+      if (present(t_out)) call output%start(t0, u, stepper%delta, t_out, u_out)
       h = options%h0
       if (h == 0.0_dp) h = initial_step()
       h = min(h, options%h_max)
 
       attempts = 0
       failures = 0
+      troubles = 0
+      trouble_end = t0
       err = nan
       do while (t < t_end)
          if (attempts >= options%max_steps) then
-            call set_status(stat, status_max_steps, "integrate: maximum number of steps ("// &
-               format_integer(options%max_steps)//") reached at t = "//format_real(t, 6))
+            write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", es13.6e3)') &
+               options%max_steps, t
+            call set_status(stat, status_max_steps, trim(text))
             exit
          end if
          last = t + h >= t_end - roundoff_steps*epsilon(1.0_dp)*abs(t_end)
          if (last) h = t_end - t
          if (h < options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
-            call set_status(stat, status_step_underflow, "integrate: step size "//format_real(h, 6)// &
-               " below the minimum step or the roundoff of t = "//format_real(t, 6))
+            write (text, '("integrate: step size ", es13.6e3, " below the minimum step or the roundoff of t = ", &
+               &es13.6e3)') h, t
+            call set_status(stat, status_step_underflow, trim(text))
             exit
          end if
          attempts = attempts + 1
@@ -129,6 +153,7 @@ contains
          select case (outcome)
          case (attempt_accepted)
             failures = 0
+            if (t + h > trouble_end) troubles = 0
             call record_attempt(err, outcome, newton_before, stepper%u_new)
             stats%accepted_steps = stats%accepted_steps + 1
             stats%h_min_accepted = min(stats%h_min_accepted, h)
@@ -150,19 +175,40 @@ contains
          case default
             ! failed attempt: retry from the same state with a smaller step
             failures = failures + 1
-            if (outcome == attempt_failed_nonfinite) then
-               stats%rejected_nonfinite = stats%rejected_nonfinite + 1
-            else
+            select case (outcome)
+            case (attempt_failed_nonfinite, attempt_failed_evaluation)
+               if (outcome == attempt_failed_nonfinite) then
+                  stats%rejected_nonfinite = stats%rejected_nonfinite + 1
+               else
+                  stats%rejected_evaluation = stats%rejected_evaluation + 1
+               end if
+               if (troubles == 0) trouble_end = t + h
+               troubles = troubles + 1
+            case default
                stats%rejected_newton = stats%rejected_newton + 1
-            end if
+            end select
             call record_attempt(nan, outcome, newton_before, u)
             if (failures >= options%max_failures) then
-               call set_status(stat, step_stat%code, "integrate: gave up after "//format_integer(int(failures, i8))// &
-                  " consecutive failed attempts at t = "//format_real(t, 6)//", last: "//step_stat%message)
+               write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", es13.6e3, &
+                  &", last: ", a)') failures, t, trim(status_description(step_stat%code))
+               call set_status(stat, step_stat%code, trim(text))
+               exit
+            end if
+            if (troubles >= options%max_failures) then
+               write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", es13.6e3, &
+                  &" (stopped at t = ", es13.6e3, ")")') trim(status_description(step_stat%code)), troubles, &
+                  trouble_end, t
+               call set_status(stat, step_stat%code, trim(text))
                exit
             end if
             h = failure_shrink*h
          end select
+         if (present(history)) then
+            if (history%failed()) then
+               call set_status(stat, status_output_error, "integrate: the step history could not be written")
+               exit
+            end if
+         end if
       end do
       call finish()
 
@@ -210,10 +256,10 @@ contains
          end if
       end subroutine check_arguments
 
-      !> h0 = 0.01 |U0|_w / |F(U0)|_w (1e-6 when either is tiny), at most t_end - t0.
+      !> h0 = 0.01 |U0|_w / |F(U0)|_w (1e-6 when either is tiny), at most t_end - t0;
+      !> F(U0) is in stepper%delta.
       real(dp) function initial_step()
          real(dp) :: size_u, size_f
-         call evaluate_rhs(problem, t0, u, stepper%delta, scratch, scheme%counters)
          call stepper%set_weights(options, u, u)
          size_u = stepper%weighted_norm(options, u)
          size_f = stepper%weighted_norm(options, stepper%delta)
@@ -255,6 +301,7 @@ contains
          stats%work%linear_solves = scheme%counters%linear_solves - work_before%linear_solves
          stats%work%newton_iterations = scheme%counters%newton_iterations - work_before%newton_iterations
          if (stats%accepted_steps == 0) stats%h_min_accepted = 0.0_dp
+         stats%weights_raised = stepper%weights_raised
          call cpu_time(cpu_end)
          call system_clock(clock_end)
          stats%cpu_seconds = cpu_end - cpu_start

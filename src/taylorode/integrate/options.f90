@@ -4,7 +4,7 @@ module taylorode_integrate_options
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
    use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, default_kappa
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
@@ -21,6 +21,8 @@ module taylorode_integrate_options
    integer, parameter :: advance_high = 1
    !> Advance with the lower-order member of the embedded pair
    integer, parameter :: advance_low = 2
+   !> Largest controller exponent q accepted
+   real(dp), parameter :: max_q = 20.0_dp
 
    !> Settings of `integrate`. Weights: w_i = atol_i + rtol * max(|U_i^n|, |U_i^{n+1}|).
    type :: integrator_options_type
@@ -36,7 +38,7 @@ module taylorode_integrate_options
       integer :: controller = controller_i
       !> Safety factor kappa in (0, 1]
       real(dp) :: kappa = default_kappa
-      !> Order exponent q of the controller; 0 takes it from the scheme pair
+      !> Order exponent q of the controller, in [1, 20]; 0 takes it from the scheme pair
       !> (lower order + 1, which is 2 for every pair here)
       real(dp) :: q = 0.0_dp
       !> First step size; 0 chooses it from the initial data (h0 = 0.01 |U0|_w / |F(U0)|_w)
@@ -51,7 +53,7 @@ module taylorode_integrate_options
       real(dp) :: min_shrink = 0.2_dp
       !> Attempted steps allowed (accepted and rejected)
       integer(i8) :: max_steps = 1000000_i8
-      !> Newton iterations allowed per nonlinear system
+      !> Newton iterations allowed per nonlinear system (at least 2)
       integer :: max_newton_iterations = 10
       !> Keep factored Newton matrices across steps while h changes by at most 20 %
       !> and Newton contracts fast (0.1 or better); off: one factorization per solve
@@ -87,6 +89,9 @@ contains
    end function paper_options
 
    !> Check every option for a system of n unknowns; stat says which one is wrong.
+   !> Every real option must be finite (an infinite tolerance or q is an error, not a
+   !> setting). Tolerances below what double precision can deliver are accepted:
+   !> `integrate` raises the error weights to that floor and says so in its statistics.
    subroutine validate_options(options, n, stat)
       !> Options to check
       type(integrator_options_type), intent(in) :: options
@@ -97,21 +102,24 @@ contains
 
       logical :: atol_zero
 
-      if (options%rtol < 0.0_dp .or. ieee_is_nan(options%rtol)) then
-         call invalid("rtol must be >= 0 and not NaN"); return
+      if (.not. finite_at_least(options%rtol, 0.0_dp)) then
+         call invalid("rtol must be finite and >= 0"); return
       end if
       if (allocated(options%atol_vector)) then
          if (size(options%atol_vector) /= n) then
             call set_status(stat, status_size_mismatch, "options: atol_vector must have one entry per unknown")
             return
          end if
-         if (any(options%atol_vector < 0.0_dp) .or. any(ieee_is_nan(options%atol_vector))) then
-            call invalid("every atol_vector entry must be >= 0 and not NaN"); return
+         if (.not. all(ieee_is_finite(options%atol_vector))) then
+            call invalid("every atol_vector entry must be finite and >= 0"); return
+         end if
+         if (any(options%atol_vector < 0.0_dp)) then
+            call invalid("every atol_vector entry must be finite and >= 0"); return
          end if
          atol_zero = any(options%atol_vector == 0.0_dp)
       else
-         if (options%atol < 0.0_dp .or. ieee_is_nan(options%atol)) then
-            call invalid("atol must be >= 0 and not NaN"); return
+         if (.not. finite_at_least(options%atol, 0.0_dp)) then
+            call invalid("atol must be finite and >= 0"); return
          end if
          atol_zero = options%atol == 0.0_dp
       end if
@@ -124,37 +132,46 @@ contains
       if (all(options%controller /= [controller_i, controller_pi, controller_pid])) then
          call invalid("controller must be controller_i, controller_pi or controller_pid"); return
       end if
-      if (.not. (options%kappa > 0.0_dp .and. options%kappa <= 1.0_dp)) then
+      if (.not. finite_in(options%kappa, 0.0_dp, 1.0_dp) .or. options%kappa == 0.0_dp) then
          call invalid("kappa must be in (0, 1]"); return
       end if
-      if (.not. (options%q >= 0.0_dp)) then
-         call invalid("q must be > 0 (or 0 for the scheme's default)"); return
+      if (.not. (options%q == 0.0_dp .or. finite_in(options%q, 1.0_dp, max_q))) then
+         call invalid("q must be in [1, 20] (or 0 for the scheme's default)"); return
       end if
-      if (.not. (options%h0 >= 0.0_dp)) then
-         call invalid("h0 must be > 0 (or 0 to choose it automatically)"); return
+      if (.not. finite_at_least(options%h0, 0.0_dp)) then
+         call invalid("h0 must be finite and > 0 (or 0 to choose it automatically)"); return
       end if
-      if (.not. (options%h_min >= 0.0_dp)) then
-         call invalid("h_min must be >= 0"); return
+      if (.not. finite_at_least(options%h_min, 0.0_dp)) then
+         call invalid("h_min must be finite and >= 0"); return
       end if
-      if (.not. (options%h_max > 0.0_dp) .or. options%h_max < options%h_min) then
-         call invalid("h_max must be > 0 and >= h_min"); return
+      if (.not. finite_at_least(options%h_max, 0.0_dp) .or. options%h_max == 0.0_dp .or. &
+         options%h_max < options%h_min) then
+         call invalid("h_max must be finite, > 0 and >= h_min"); return
       end if
       if (options%h0 > 0.0_dp .and. (options%h0 < options%h_min .or. options%h0 > options%h_max)) then
          call invalid("h0 must lie in [h_min, h_max]"); return
       end if
-      if (.not. (options%max_growth == 0.0_dp .or. options%max_growth > 1.0_dp)) then
-         call invalid("max_growth must be > 1 (or 0 for no limit)"); return
+      if (.not. (options%max_growth == 0.0_dp .or. finite_in(options%max_growth, 1.0_dp, huge(1.0_dp)))) then
+         call invalid("max_growth must be finite and > 1 (or 0 for no limit)"); return
       end if
-      if (.not. (options%min_shrink == 0.0_dp .or. (options%min_shrink > 0.0_dp .and. options%min_shrink < 1.0_dp))) then
+      if (options%max_growth == 1.0_dp) then
+         call invalid("max_growth must be finite and > 1 (or 0 for no limit)"); return
+      end if
+      if (.not. (options%min_shrink == 0.0_dp .or. finite_in(options%min_shrink, 0.0_dp, 1.0_dp))) then
+         call invalid("min_shrink must be in (0, 1) (or 0 for no limit)"); return
+      end if
+      if (options%min_shrink == 1.0_dp) then
          call invalid("min_shrink must be in (0, 1) (or 0 for no limit)"); return
       end if
       if (options%max_steps < 1) then
          call invalid("max_steps must be at least 1"); return
       end if
-      if (options%max_newton_iterations < 1) then
-         call invalid("max_newton_iterations must be at least 1"); return
+      if (options%max_newton_iterations < 2) then
+         call invalid("max_newton_iterations must be at least 2 (a kept Newton matrix needs a second "// &
+            "iteration to measure its contraction)"); return
       end if
-      if (.not. (options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp)) then
+      if (.not. finite_in(options%newton_fraction, 0.0_dp, 1.0_dp) .or. options%newton_fraction == 0.0_dp .or. &
+         options%newton_fraction == 1.0_dp) then
          call invalid("newton_fraction must be in (0, 1)"); return
       end if
       if (options%max_failures < 1) then
@@ -170,5 +187,19 @@ contains
          call set_status(stat, status_invalid_argument, "options: "//message)
       end subroutine invalid
    end subroutine validate_options
+
+   !> x is finite and x >= low (false for NaN).
+   elemental logical function finite_at_least(x, low)
+      real(dp), intent(in) :: x, low
+      finite_at_least = ieee_is_finite(x)
+      if (finite_at_least) finite_at_least = x >= low
+   end function finite_at_least
+
+   !> x is finite and low <= x <= high (false for NaN).
+   elemental logical function finite_in(x, low, high)
+      real(dp), intent(in) :: x, low, high
+      finite_in = ieee_is_finite(x)
+      if (finite_in) finite_in = x >= low .and. x <= high
+   end function finite_in
 
 end module taylorode_integrate_options

@@ -19,6 +19,11 @@ module taylorode_integrate_stats
       integer(i8) :: rejected_newton = 0
       !> Attempts that produced NaN or Inf
       integer(i8) :: rejected_nonfinite = 0
+      !> Attempts in which the problem rejected an evaluation (reject_evaluation)
+      integer(i8) :: rejected_evaluation = 0
+      !> Whether error weights were raised to what double precision resolves (tolerances
+      !> below about 1e-14 relative ask for more than roundoff allows)
+      logical :: weights_raised = .false.
       !> Evaluations and linear algebra of the integration (scheme and integrator together)
       type(counters_type) :: work
       !> Smallest and largest accepted step size
@@ -37,7 +42,7 @@ contains
       !> The statistics
       class(integration_stats_type), intent(in) :: self
       integer(i8) :: n
-      n = self%rejected_error + self%rejected_newton + self%rejected_nonfinite
+      n = self%rejected_error + self%rejected_newton + self%rejected_nonfinite + self%rejected_evaluation
    end function rejected_steps
 
 end module taylorode_integrate_stats

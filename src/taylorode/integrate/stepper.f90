@@ -1,24 +1,33 @@
 !> One attempted step of the adaptive integrator: the scheme's step from U^n, its
 !> error estimate in the weighted norm, the decision (accept, reject, failed) and
 !> the controller's next step size.
+!>
+!> Error weights: w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|), never below
+!> `roundoff_weight` times |U_i| (what double precision can resolve); a component
+!> with atol_i = 0 that is zero is weighed against the size of the whole state (at
+!> least 1), so that pure relative control (atol = 0) works.
 module taylorode_integrate_stepper
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_nonfinite
+   use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite, &
+      status_evaluation_failed
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_high, advance_low
    use taylorode_integrate_controller, only: controller_factor
    use taylorode_integrate_history, only: attempt_accepted, attempt_rejected_error, &
-      attempt_failed_newton, attempt_failed_nonfinite
+      attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
-   public :: stepper_type
+   public :: stepper_type, roundoff_weight
 
    !> Newton increments are never asked to be smaller than this many roundoffs of |U|
    real(dp), parameter :: newton_roundoff_floor = 10.0_dp
+   !> Error weights are never below this fraction of |U_i| (50 roundoffs): a tighter
+   !> tolerance asks for more than double precision resolves
+   real(dp), parameter :: roundoff_weight = 50.0_dp*epsilon(1.0_dp)
 
    !> Work arrays and controller memory of the step attempts of one integration
    type :: stepper_type
@@ -26,7 +35,7 @@ module taylorode_integrate_stepper
       real(dp), allocatable :: u_new(:)
       !> Embedded difference U_high - U_low
       real(dp), allocatable :: delta(:)
-      !> Error weights w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|)
+      !> Error weights
       real(dp), allocatable :: weights(:)
       !> Newton settings passed to the scheme (tolerance updated every attempt)
       type(newton_settings_type) :: newton
@@ -34,6 +43,10 @@ module taylorode_integrate_stepper
       real(dp) :: q = 2.0_dp
       !> Weighted errors of the two previous accepted steps (1 when there are none)
       real(dp) :: err_previous = 1.0_dp, err_before = 1.0_dp
+      !> Whether some absolute tolerance is zero (weights may then need the state's size)
+      logical :: zero_atol = .false.
+      !> Whether a weight was raised to the roundoff floor
+      logical :: weights_raised = .false.
    contains
       !> Prepare for an integration of n unknowns with a scheme and options
       procedure :: start
@@ -71,9 +84,17 @@ contains
       if (self%q == 0.0_dp) self%q = real(min(scheme%order, scheme%embedded_order) + 1, dp)
       self%err_previous = 1.0_dp
       self%err_before = 1.0_dp
+      if (allocated(options%atol_vector)) then
+         self%zero_atol = any(options%atol_vector == 0.0_dp)
+      else
+         self%zero_atol = options%atol == 0.0_dp
+      end if
+      self%weights_raised = .false.
    end subroutine start
 
-   !> w_i = atol_i + rtol * max(|a_i|, |b_i|)
+   !> w_i = atol_i + rtol * max(|a_i|, |b_i|), at least roundoff_weight * max(|a_i|, |b_i|);
+   !> a zero weight (atol_i = 0 on a zero component) becomes rtol times the largest
+   !> |a_j|, |b_j| (at least rtol: a state of zeros is weighed as if of size 1).
    subroutine set_weights(self, options, a, b)
       !> The stepper
       class(stepper_type), intent(inout) :: self
@@ -81,11 +102,27 @@ contains
       type(integrator_options_type), intent(in) :: options
       !> The two states
       real(dp), intent(in) :: a(:), b(:)
-      if (allocated(options%atol_vector)) then
-         self%weights = options%atol_vector + options%rtol*max(abs(a), abs(b))
-      else
-         self%weights = options%atol + options%rtol*max(abs(a), abs(b))
-      end if
+      real(dp) :: size_i, atol_i, scale
+      integer :: i
+      atol_i = options%atol
+      do i = 1, size(a)
+         if (allocated(options%atol_vector)) atol_i = options%atol_vector(i)
+         size_i = max(abs(a(i)), abs(b(i)))
+         self%weights(i) = atol_i + options%rtol*size_i
+         if (self%weights(i) < roundoff_weight*size_i) then
+            self%weights(i) = roundoff_weight*size_i
+            self%weights_raised = .true.
+         end if
+      end do
+      if (.not. self%zero_atol) return
+      scale = 0.0_dp
+      do i = 1, size(a)
+         scale = max(scale, abs(a(i)), abs(b(i)))
+      end do
+      scale = max(options%rtol, roundoff_weight)*max(scale, 1.0_dp)
+      do i = 1, size(a)
+         if (self%weights(i) == 0.0_dp) self%weights(i) = scale
+      end do
    end subroutine set_weights
 
    !> Max or RMS norm of v / w.
@@ -96,17 +133,25 @@ contains
       type(integrator_options_type), intent(in) :: options
       !> The vector
       real(dp), intent(in) :: v(:)
+      integer :: i
+      weighted_norm = 0.0_dp
       if (options%norm == norm_max) then
-         weighted_norm = maxval(abs(v)/self%weights)
+         do i = 1, size(v)
+            weighted_norm = max(weighted_norm, abs(v(i))/self%weights(i))
+         end do
       else
-         weighted_norm = sqrt(sum((v/self%weights)**2)/real(size(v), dp))
+         do i = 1, size(v)
+            weighted_norm = weighted_norm + (v(i)/self%weights(i))**2
+         end do
+         weighted_norm = sqrt(weighted_norm/real(size(v), dp))
       end if
    end function weighted_norm
 
    !> One attempt from (t, u) with step h. The outcome is attempt_accepted (u_new holds
-   !> the new state), attempt_rejected_error, attempt_failed_newton or
-   !> attempt_failed_nonfinite (step_stat says why); err is the weighted error (of
-   !> an attempt that got that far) and h_next the controller's next step size.
+   !> the new state), attempt_rejected_error, attempt_failed_newton,
+   !> attempt_failed_nonfinite or attempt_failed_evaluation (step_stat holds the code);
+   !> err is the weighted error (of an attempt that got that far) and h_next the
+   !> controller's next step size. Nothing is allocated, failed attempts included.
    subroutine attempt(self, problem, scheme, options, t, h, u, outcome, err, h_next, step_stat)
       !> The stepper
       class(stepper_type), intent(inout) :: self
@@ -126,28 +171,40 @@ contains
       real(dp), intent(inout) :: err
       !> Next step size proposed by the controller (h on a failed attempt)
       real(dp), intent(out) :: h_next
-      !> Why a failed attempt failed
-      type(status_type), intent(out) :: step_stat
+      !> Why a failed attempt failed (its code)
+      type(status_type), intent(inout) :: step_stat
       real(dp) :: factor
+      integer :: i
 
       h_next = h
+      call set_code(step_stat, status_ok)
       call self%set_weights(options, u, u)
       ! never ask for more than roundoff allows, nor for a zero tolerance
-      self%newton%tolerance = max(options%newton_fraction*self%weights, &
-         newton_roundoff_floor*epsilon(1.0_dp)*abs(u), tiny(1.0_dp))
+      do i = 1, size(u)
+         self%newton%tolerance(i) = max(options%newton_fraction*self%weights(i), &
+            newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
+      end do
+      call problem%clear_rejection()
       call scheme%advance(problem, t, h, u, self%u_new, self%newton, step_stat, self%delta)
-      if (step_stat%code == status_ok) then
+      if (problem%evaluation_rejected()) then
+         call set_code(step_stat, status_evaluation_failed)
+      else if (step_stat%code == status_ok) then
          if (.not. (all(ieee_is_finite(self%u_new)) .and. all(ieee_is_finite(self%delta)))) then
-            call set_status(step_stat, status_nonfinite, "the new state or the error estimate is NaN or Inf")
+            call set_code(step_stat, status_nonfinite)
          end if
       end if
-      if (step_stat%code == status_nonfinite) then
+      select case (step_stat%code)
+      case (status_ok)
+      case (status_evaluation_failed)
+         outcome = attempt_failed_evaluation
+         return
+      case (status_nonfinite)
          outcome = attempt_failed_nonfinite
          return
-      else if (step_stat%code /= status_ok) then
+      case default
          outcome = attempt_failed_newton
          return
-      end if
+      end select
 
       if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
          self%u_new = self%u_new + self%delta

@@ -2,13 +2,18 @@
 !>
 !> Explicit interfaces to dgetrf/dgetrs (dense) and dgbtrf/dgbtrs (band) and
 !> assumed-shape wrappers, so that a matrix is factored once and solved with
-!> several times.
+!> several times. Every wrapper checks the arguments it passes (sizes, bandwidths,
+!> leading dimensions) and returns info = -1 without calling LAPACK when one is
+!> wrong. The library also supplies LAPACK's error handler `xerbla`, which LAPACK
+!> calls on an illegal argument: it does nothing, so LAPACK returns its negative
+!> info instead of printing a message and stopping the program.
 module taylorode_linalg_lapack
+   use, intrinsic :: iso_c_binding, only: c_char, c_int
    use taylorode_base_kinds, only: dp
    implicit none
    private
 
-   public :: lu_factor, lu_solve, band_lu_factor, band_lu_solve
+   public :: lu_factor, lu_solve, band_lu_factor, band_lu_solve, lapack_error_handler
 
    interface
       pure subroutine dgetrf(m, n, a, lda, ipiv, info)
@@ -59,6 +64,8 @@ contains
       integer, contiguous, intent(out) :: ipiv(:)
       !> LAPACK info: 0 success, > 0 singular
       integer, intent(out) :: info
+      info = -1
+      if (kl < 0 .or. ku < 0 .or. size(ab, 1) /= 2*kl + ku + 1 .or. size(ipiv) < size(ab, 2)) return
       call dgbtrf(size(ab, 2), size(ab, 2), kl, ku, ab, size(ab, 1), ipiv, info)
    end subroutine band_lu_factor
 
@@ -74,6 +81,9 @@ contains
       real(dp), contiguous, intent(inout) :: b(:)
       !> LAPACK info
       integer, intent(out) :: info
+      info = -1
+      if (kl < 0 .or. ku < 0 .or. size(ab, 1) /= 2*kl + ku + 1 .or. size(ipiv) < size(ab, 2) .or. &
+         size(b) /= size(ab, 2) .or. size(b) < 1) return
       call dgbtrs("N", size(ab, 2), kl, ku, 1, ab, size(ab, 1), ipiv, b, size(b), info)
    end subroutine band_lu_solve
 
@@ -86,6 +96,8 @@ contains
       integer, contiguous, intent(out) :: ipiv(:)
       !> LAPACK info: 0 success, > 0 singular, < 0 bad argument
       integer, intent(out) :: info
+      info = -1
+      if (size(a, 1) /= size(a, 2) .or. size(a, 1) < 1 .or. size(ipiv) < size(a, 1)) return
       call dgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
    end subroutine lu_factor
 
@@ -99,7 +111,22 @@ contains
       real(dp), contiguous, intent(inout) :: b(:)
       !> LAPACK info
       integer, intent(out) :: info
+      info = -1
+      if (size(lu, 1) /= size(lu, 2) .or. size(lu, 1) < 1 .or. size(ipiv) < size(lu, 1) .or. &
+         size(b) /= size(lu, 1)) return
       call dgetrs("N", size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
    end subroutine lu_solve
+
+   !> LAPACK's error handler, called by every LAPACK routine that is given an illegal
+   !> argument. The reference one prints the argument's position and stops the
+   !> program; this one does nothing, and the routine returns info = -(position), which
+   !> the wrappers above report as a status. (The wrappers check their arguments first,
+   !> so it is a second line of defence, also for LAPACK calls a program makes itself.)
+   subroutine lapack_error_handler(routine, position) bind(c, name="xerbla_")
+      !> Name of the routine (Fortran character, not NUL-terminated)
+      character(kind=c_char), intent(in) :: routine(*)
+      !> Position of the illegal argument
+      integer(c_int), intent(in) :: position
+   end subroutine lapack_error_handler
 
 end module taylorode_linalg_lapack

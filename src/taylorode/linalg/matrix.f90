@@ -377,7 +377,8 @@ contains
       type is (band_matrix_type)
          select type (c)
          type is (band_matrix_type)
-            if (b%kl + c%kl > self%kl .or. b%ku + c%ku > self%ku) then
+            ! the product's bands, at most n - 1 wide, must fit
+            if (min(b%kl + c%kl, self%n - 1) > self%kl .or. min(b%ku + c%ku, self%n - 1) > self%ku) then
                call mismatch(stat, "a product")
                return
             end if

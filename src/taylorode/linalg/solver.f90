@@ -4,7 +4,7 @@
 !> `new_linear_solver` picks the matching LAPACK path.
 module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+   use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
       status_singular_matrix
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, new_matrix
@@ -46,7 +46,8 @@ contains
       allocate (solver%pivots(n))
    end subroutine new_linear_solver
 
-   !> Factor the assembled matrix in place (dgetrf or dgbtrf).
+   !> Factor the assembled matrix in place (dgetrf or dgbtrf). Failures carry their
+   !> code only (no message is built): status_singular_matrix for a zero pivot.
    subroutine factor(self, stat)
       !> The solver
       class(linear_solver_type), intent(inout) :: self
@@ -63,9 +64,9 @@ contains
       end select
       self%factored = info == 0
       if (info > 0) then
-         call set_status(stat, status_singular_matrix, "linear solver: the matrix is singular")
+         call set_code(stat, status_singular_matrix)
       else if (info < 0) then
-         call set_status(stat, status_invalid_argument, "linear solver: the matrix storage is not supported")
+         call set_code(stat, status_invalid_argument)
       end if
    end subroutine factor
 
@@ -75,19 +76,19 @@ contains
       class(linear_solver_type), intent(in) :: self
       !> Right-hand side on entry, solution on exit
       real(dp), contiguous, intent(inout) :: x(:)
-      !> status_invalid_argument when there are no factors or x has the wrong size
+      !> status_invalid_argument (code only) when there are no factors or x has the wrong size
       type(status_type), intent(inout) :: stat
       integer :: info
-      if (.not. self%factored .or. size(x) /= self%matrix%n) then
-         call set_status(stat, status_invalid_argument, "linear solver: no factors for a system of this size")
-         return
+      info = -1
+      if (self%factored .and. size(x) == self%matrix%n) then
+         select type (a => self%matrix)
+         type is (dense_matrix_type)
+            call lu_solve(a%a, self%pivots, x, info)
+         type is (band_matrix_type)
+            call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
+         end select
       end if
-      select type (a => self%matrix)
-      type is (dense_matrix_type)
-         call lu_solve(a%a, self%pivots, x, info)
-      type is (band_matrix_type)
-         call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
-      end select
+      if (info /= 0) call set_code(stat, status_invalid_argument)
    end subroutine solve
 
 end module taylorode_linalg_solver

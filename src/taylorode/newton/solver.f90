@@ -4,8 +4,8 @@
 !> (the step size, the tolerances, the iteration limit) comes in as arguments.
 module taylorode_newton_solver
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_newton_diverged, &
-      status_newton_not_converged, status_singular_matrix
+   use taylorode_base_status, only: status_type, set_code, status_ok, status_newton_diverged, &
+      status_newton_not_converged, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, matrix_structure_type
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
@@ -140,6 +140,10 @@ contains
    !> rebuilt at the current iterate whenever the iteration contracts poorly or too
    !> slowly to converge within the iteration limit. Each iteration costs one
    !> residual and one LU solve. Converged when every |increment_i| <= tolerance_i.
+   !> A failure is reported by its code alone (no message is built, nothing is
+   !> allocated): status_singular_matrix, status_newton_diverged,
+   !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
+   !> NaN or Inf) or status_evaluation_failed (the problem rejected an evaluation).
    subroutine solve(self, system, problem, h, settings, u, counters, stat)
       !> The solver
       class(newton_solver_type), intent(inout) :: self
@@ -159,7 +163,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, n
-      logical :: rebuild, rebuilt
+      logical :: rebuild, rebuilt, known
       real(dp) :: size_now, size_before, contraction
 
       n = size(settings%tolerance)
@@ -174,6 +178,14 @@ contains
       do iteration = 1, settings%max_iterations
          call system%residual(problem, u, self%increment, counters)
          counters%newton_iterations = counters%newton_iterations + 1
+         if (problem%evaluation_rejected()) then
+            call set_code(stat, status_evaluation_failed)
+            return
+         end if
+         if (.not. all(ieee_is_finite(self%increment))) then
+            call set_code(stat, status_nonfinite)
+            return
+         end if
          rebuilt = rebuild
          if (rebuild) then
             call self%linear%matrix%set_zero()
@@ -182,11 +194,6 @@ contains
             call self%linear%factor(stat)
             counters%lu_factorizations = counters%lu_factorizations + 1
             self%h_built = h
-            if (stat%code == status_singular_matrix) then
-               call set_status(stat, status_singular_matrix, &
-                  "Newton: the iteration matrix is singular (reduce the step size)")
-               return
-            end if
             if (stat%code /= status_ok) return
             rebuild = .false.
          end if
@@ -197,35 +204,39 @@ contains
          u = u + self%increment
          if (.not. all(ieee_is_finite(u))) then
             self%linear%factored = .false.
-            call set_status(stat, status_newton_diverged, "Newton: the iterate became NaN or Inf")
+            call set_code(stat, status_newton_diverged)
             return
          end if
          size_now = 0.0_dp
          do i = 1, size(u)
             size_now = max(size_now, abs(self%increment(i))/settings%tolerance(mod(i - 1, n) + 1))
          end do
-         contraction = size_now/size_before
-         if (iteration > 1) self%last_contraction = contraction
+         ! after an exactly zero increment the contraction is unknown: it then neither
+         ! triggers a rebuild nor a divergence verdict, and the factors are not kept
+         known = size_before > 0.0_dp
+         contraction = 0.0_dp
+         if (known) contraction = size_now/size_before
+         if (iteration > 1) self%last_contraction = merge(contraction, huge(1.0_dp), known)
          if (size_now <= 1.0_dp .and. iteration >= least_iterations) then
             self%contraction = self%last_contraction
             return
          end if
-         if (contraction >= divergence_contraction .and. rebuilt) then
+         if (known .and. contraction >= divergence_contraction .and. rebuilt) then
             self%linear%factored = .false.
-            call set_status(stat, status_newton_diverged, "Newton: the iteration diverged")
+            call set_code(stat, status_newton_diverged)
             return
          end if
          ! rebuild on poor contraction, or when at this rate the iteration limit
          ! would come before convergence
-         if (contraction > refresh_contraction) rebuild = .true.
-         if (iteration > 1 .and. contraction < 1.0_dp) then
+         if (known .and. contraction > refresh_contraction) rebuild = .true.
+         if (known .and. iteration > 1 .and. contraction < 1.0_dp) then
             if (size_now*contraction**(settings%max_iterations - iteration)/(1.0_dp - contraction) &
                > 1.0_dp) rebuild = .true.
          end if
          size_before = size_now
       end do
       self%linear%factored = .false.
-      call set_status(stat, status_newton_not_converged, "Newton: no convergence within the iteration limit")
+      call set_code(stat, status_newton_not_converged)
    end subroutine solve
 
 end module taylorode_newton_solver

@@ -2,17 +2,34 @@
 !>
 !> Users extend `ode_problem` (and write f, g and both Jacobians) or
 !> `ode_problem_fd` (and write only f and g: the Jacobians come from finite
-!> differences). Parameters of a problem are components of the extended type.
+!> differences; a type extending it may still override one of them). Parameters of
+!> a problem are components of the extended type.
+!>
+!> A problem that cannot evaluate at the point it is given (a state outside its
+!> domain, a table lookup out of range) calls `self%reject_evaluation()` inside f,
+!> g or a Jacobian and returns any finite values: the step is retried with a smaller
+!> step size, and repeated rejections end the integration with
+!> status_evaluation_failed.
 module taylorode_problem_ode
    use taylorode_base_kinds, only: dp
-   use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, storage_band
+   use taylorode_base_status, only: status_type, set_status, status_invalid_argument
+   use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, storage_dense, storage_band
    implicit none
    private
 
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface
 
+   !> Work arrays of the finite-difference Jacobians, kept between calls
+   type :: difference_workspace_type
+      real(dp), allocatable :: base(:), shifted(:), probe(:), increment(:)
+   end type difference_workspace_type
+
    !> Abstract problem with a non-stiff part f, a stiff part g and their Jacobians
    type, abstract :: ode_problem
+      !> Set by reject_evaluation, cleared by the integrator before each attempt
+      logical, private :: rejected = .false.
+      !> Work arrays of the finite-difference Jacobians
+      type(difference_workspace_type), private :: differences
    contains
       !> Non-stiff part f(t, U)
       procedure(rhs_interface), deferred :: f
@@ -25,6 +42,9 @@ module taylorode_problem_ode
       !> Where the nonzeros of df/dU and dg/dU together can be (default: dense);
       !> a banded problem returns band_structure(lower, upper)
       procedure :: jacobian_structure
+      !> The declared structure checked for n unknowns: a band wider than the matrix
+      !> is dense, negative bandwidths are rejected
+      procedure, non_overridable :: checked_structure
       !> Bandwidths of the declared structure (-1, -1 when dense); declare a band
       !> through `jacobian_structure`, this binding cannot be overridden
       procedure, non_overridable :: bandwidths
@@ -32,6 +52,13 @@ module taylorode_problem_ode
       procedure :: jac_f_band
       !> dg/dU in LAPACK band storage (default: grouped forward differences of g)
       procedure :: jac_g_band
+      !> Say, from inside f, g or a Jacobian, that the problem cannot be evaluated at
+      !> the point it was given
+      procedure, non_overridable :: reject_evaluation
+      !> Whether an evaluation was rejected since the last clear_rejection
+      procedure, non_overridable :: evaluation_rejected
+      !> Forget earlier rejections (the integrator does this before each attempt)
+      procedure, non_overridable :: clear_rejection
    end type ode_problem
 
    !> Problem whose Jacobians are approximated by forward differences of f and g
@@ -87,6 +114,36 @@ contains
       structure = dense_structure()
    end function jacobian_structure
 
+   !> The declared structure for n unknowns, made safe: a band wider than the matrix
+   !> (a bandwidth beyond n - 1) is dense storage, so that a problem's own band
+   !> Jacobian always meets the layout it declared; a negative bandwidth or an unknown
+   !> storage is an error.
+   subroutine checked_structure(self, n, structure, stat)
+      !> The problem
+      class(ode_problem), intent(in) :: self
+      !> Number of unknowns
+      integer, intent(in) :: n
+      !> The structure to use
+      type(matrix_structure_type), intent(out) :: structure
+      !> status_invalid_argument for an impossible structure
+      type(status_type), intent(inout) :: stat
+      structure = self%jacobian_structure(n)
+      select case (structure%storage)
+      case (storage_dense)
+      case (storage_band)
+         if (structure%lower < 0 .or. structure%upper < 0) then
+            call set_status(stat, status_invalid_argument, &
+               "problem: the Jacobian bandwidths must be >= 0 (jacobian_structure)")
+            structure = dense_structure()
+            return
+         end if
+         if (structure%lower > n - 1 .or. structure%upper > n - 1) structure = dense_structure()
+      case default
+         call set_status(stat, status_invalid_argument, "problem: unknown Jacobian storage (jacobian_structure)")
+         structure = dense_structure()
+      end select
+   end subroutine checked_structure
+
    !> Lower and upper bandwidths of the declared Jacobian structure, -1 and -1 when
    !> it is dense.
    subroutine bandwidths(self, n, lower, upper)
@@ -105,6 +162,28 @@ contains
          upper = structure%upper
       end if
    end subroutine bandwidths
+
+   !> Say that f, g or a Jacobian cannot be evaluated at the point given (call it from
+   !> inside the evaluation and return any finite values).
+   subroutine reject_evaluation(self)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      self%rejected = .true.
+   end subroutine reject_evaluation
+
+   !> Whether an evaluation was rejected since the last clear_rejection.
+   pure logical function evaluation_rejected(self)
+      !> The problem
+      class(ode_problem), intent(in) :: self
+      evaluation_rejected = self%rejected
+   end function evaluation_rejected
+
+   !> Forget earlier rejections.
+   subroutine clear_rejection(self)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      self%rejected = .false.
+   end subroutine clear_rejection
 
    !> df/dU in LAPACK band storage, band(upper + 1 + i - j, j) = df_i/du_j, by
    !> forward differences on groups of columns lower + upper + 1 apart (one f
@@ -134,36 +213,56 @@ contains
       call band_forward_difference(self, .false., t, u, band)
    end subroutine jac_g_band
 
-   !> Grouped forward differences of f (`of_f`) or g into band storage.
+   !> Work arrays for n unknowns (allocated only when n changes).
+   subroutine prepare_workspace(workspace, n)
+      type(difference_workspace_type), intent(inout) :: workspace
+      integer, intent(in) :: n
+      if (allocated(workspace%base)) then
+         if (size(workspace%base) == n) return
+         deallocate (workspace%base, workspace%shifted, workspace%probe, workspace%increment)
+      end if
+      allocate (workspace%base(n), workspace%shifted(n), workspace%probe(n), workspace%increment(n))
+   end subroutine prepare_workspace
+
+   !> Grouped forward differences of f (`of_f`) or g into band storage: the columns
+   !> j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The band
+   !> is read from the storage it is given: size(band, 1) = lower + upper + 1 with
+   !> upper from the checked structure.
    subroutine band_forward_difference(self, of_f, t, u, band)
       class(ode_problem), intent(inout) :: self
       logical, intent(in) :: of_f
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: band(:, :)
-      real(dp), allocatable :: base(:), shifted(:), probe(:), increment(:)
+      type(matrix_structure_type) :: structure
+      type(status_type) :: stat
       integer :: lower, upper, width, group, i, j, n
 
       n = size(u)
-      call self%bandwidths(n, lower, upper)
+      call self%checked_structure(n, structure, stat)
+      upper = min(structure%upper, size(band, 1) - 1)
+      lower = size(band, 1) - 1 - upper
       width = lower + upper + 1
-      allocate (base(n), shifted(n), probe(n), increment(n))
-      band = 0.0_dp
-      call evaluate_part(self, of_f, t, u, base)
-      do group = 1, min(width, n)
-         probe = u
-         do j = group, n, width
-            increment(j) = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
-            probe(j) = u(j) + increment(j)
-            increment(j) = probe(j) - u(j)
-         end do
-         call evaluate_part(self, of_f, t, probe, shifted)
-         do j = group, n, width
-            do i = max(1, j - upper), min(n, j + lower)
-               band(upper + 1 + i - j, j) = (shifted(i) - base(i))/increment(j)
+      call prepare_workspace(self%differences, n)
+      associate (base => self%differences%base, shifted => self%differences%shifted, &
+         probe => self%differences%probe, increment => self%differences%increment)
+         band = 0.0_dp
+         call evaluate_part(self, of_f, t, u, base)
+         do group = 1, min(width, n)
+            probe = u
+            do j = group, n, width
+               increment(j) = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
+               probe(j) = u(j) + increment(j)
+               increment(j) = probe(j) - u(j)
+            end do
+            call evaluate_part(self, of_f, t, probe, shifted)
+            do j = group, n, width
+               do i = max(1, j - upper), min(n, j + lower)
+                  band(upper + 1 + i - j, j) = (shifted(i) - base(i))/increment(j)
+               end do
             end do
          end do
-      end do
+      end associate
    end subroutine band_forward_difference
 
    !> Forward-difference Jacobian of f.
@@ -187,24 +286,27 @@ contains
    !> Column-by-column forward differences of f (`of_f`) or g, with the
    !> increment sqrt(eps) * max(|u_j|, 1) that balances truncation and roundoff.
    subroutine forward_difference(self, of_f, t, u, jac)
-      class(ode_problem_fd), intent(inout) :: self
+      class(ode_problem), intent(inout) :: self
       logical, intent(in) :: of_f
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      real(dp) :: base(size(u)), shifted(size(u)), probe(size(u))
       real(dp) :: increment
       integer :: j
-      call evaluate_part(self, of_f, t, u, base)
-      probe = u
-      do j = 1, size(u)
-         increment = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
-         probe(j) = u(j) + increment
-         increment = probe(j) - u(j)
-         call evaluate_part(self, of_f, t, probe, shifted)
-         jac(:, j) = (shifted - base)/increment
-         probe(j) = u(j)
-      end do
+      call prepare_workspace(self%differences, size(u))
+      associate (base => self%differences%base, shifted => self%differences%shifted, &
+         probe => self%differences%probe)
+         call evaluate_part(self, of_f, t, u, base)
+         probe = u
+         do j = 1, size(u)
+            increment = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
+            probe(j) = u(j) + increment
+            increment = probe(j) - u(j)
+            call evaluate_part(self, of_f, t, probe, shifted)
+            jac(:, j) = (shifted - base)/increment
+            probe(j) = u(j)
+         end do
+      end associate
    end subroutine forward_difference
 
    !> f(t, state) when `of_f`, else g(t, state).

@@ -4,7 +4,7 @@
 !>   ex-t-2:  U1 = U0 + h F0 + h^2/2 J0 F0,      delta = h^2/2 J0 F0
 module taylorode_schemes_explicit_taylor
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_nonfinite
+   use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
@@ -64,7 +64,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
-      if (.not. self%resize(problem, n)) return
+      if (.not. self%resize(problem, n, stat)) return
       if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%taylor2)
       allocate (self%f0(n), self%g0(n), self%rhs0(n), self%taylor2(n))
       call new_matrix(self%jac_f0, n, self%structure, stat)
@@ -86,7 +86,7 @@ contains
       call evaluate_g(problem, t, u0, self%g0, self%counters)
       self%rhs0 = self%f0 + self%g0
       if (.not. all(ieee_is_finite(self%rhs0))) then
-         call set_status(stat, status_nonfinite, self%name//": f or g returned NaN or Inf")
+         call set_code(stat, status_nonfinite)
          return
       end if
       u1 = u0 + h*self%rhs0

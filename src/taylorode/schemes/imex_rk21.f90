@@ -16,7 +16,7 @@ module taylorode_schemes_imex_rk21
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_g
    implicit none
    private
 
@@ -78,8 +78,8 @@ contains
       class(imex_rk21_type), intent(in) :: self
       complex(dp), intent(in) :: z, w
       complex(dp) :: r, y1, y2
-      y1 = 1.0_dp/(1.0_dp - imex_gamma*w)
-      y2 = (1.0_dp + (imex_c*z + (1.0_dp - imex_gamma)*w)*y1)/(1.0_dp - imex_gamma*w)
+      y1 = stability_quotient((1.0_dp, 0.0_dp), 1.0_dp - imex_gamma*w)
+      y2 = stability_quotient(1.0_dp + (imex_c*z + (1.0_dp - imex_gamma)*w)*y1, 1.0_dp - imex_gamma*w)
       r = 1.0_dp + (1.0_dp - imex_gamma)*(z + w)*y1 + imex_gamma*(z + w)*y2
    end function imex_stability
 
@@ -88,7 +88,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
-      if (.not. self%resize(problem, n)) return
+      if (.not. self%resize(problem, n, stat)) return
       call self%newton(1)%init(n, self%structure, stat)
       call self%newton(2)%init(n, self%structure, stat)
       if (allocated(self%y1)) deallocate (self%stage%known, self%y1, self%f_y1, self%g_y1, self%f_y2, self%g_y2)

@@ -12,7 +12,7 @@ module taylorode_schemes_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
    implicit none
    private
 
@@ -77,9 +77,9 @@ contains
       complex(dp) :: r, s
       s = z + w
       if (self%order == 1) then
-         r = 1.0_dp/(1.0_dp - s)
+         r = stability_quotient((1.0_dp, 0.0_dp), 1.0_dp - s)
       else
-         r = 1.0_dp/(1.0_dp - s*(1.0_dp - s/2.0_dp))
+         r = stability_quotient((1.0_dp, 0.0_dp), 1.0_dp - s*(1.0_dp - s/2.0_dp))
       end if
    end function implicit_taylor_stability
 
@@ -89,7 +89,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
-      if (.not. self%resize(problem, n)) return
+      if (.not. self%resize(problem, n, stat)) return
       call self%newton(1)%init(n, self%structure, stat)
       call self%newton(2)%init(n, product_structure(self%structure, self%structure), stat)
       associate (system => self%system)

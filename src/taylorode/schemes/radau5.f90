@@ -25,7 +25,7 @@ module taylorode_schemes_radau5
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
    implicit none
    private
 
@@ -112,7 +112,8 @@ contains
       complex(dp), intent(in) :: z, w
       complex(dp) :: r, s
       s = z + w
-      r = (1.0_dp + 2.0_dp*s/5.0_dp + s**2/20.0_dp)/(1.0_dp - 3.0_dp*s/5.0_dp + 3.0_dp*s**2/20.0_dp - s**3/60.0_dp)
+      r = stability_quotient(1.0_dp + 2.0_dp*s/5.0_dp + s**2/20.0_dp, &
+         1.0_dp - 3.0_dp*s/5.0_dp + 3.0_dp*s**2/20.0_dp - s**3/60.0_dp)
    end function radau_stability
 
    !> Forget the kept Jacobian, the factored matrix and the previous step (new problem
@@ -130,7 +131,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
-      if (.not. self%resize(problem, n)) return
+      if (.not. self%resize(problem, n, stat)) return
       call self%newton%init(3*n, dense_structure(), stat)
       call new_linear_solver(self%error_solver, n, dense_structure(), stat)
       if (allocated(self%increments)) deallocate (self%increments, self%rhs0, self%estimate, self%filtered)

@@ -10,8 +10,8 @@
 !> a given size no step allocates.
 module taylorode_schemes_scheme
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
-      status_size_mismatch, status_nonfinite
+   use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
+      status_size_mismatch, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type
@@ -21,7 +21,7 @@ module taylorode_schemes_scheme
    implicit none
    private
 
-   public :: scheme_type, default_newton_settings
+   public :: scheme_type, default_newton_settings, stability_quotient
    public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
 
    !> Abstract one-step scheme
@@ -115,7 +115,8 @@ module taylorode_schemes_scheme
 contains
 
    !> One step of the scheme after checking its arguments: sizes agree, h > 0 and
-   !> finite, u0 finite. On any failure stat says why and u1 is set to u0. Each call
+   !> finite, u0 finite. On any failure stat says why (status_evaluation_failed when the
+   !> problem rejected an evaluation) and u1 is set to u0. Each call
    !> is a fresh step: nothing kept from earlier steps (factored Newton matrices) is
    !> used, and Newton iterates to default_newton_tolerance * (1 + |u0|).
    subroutine take_step(self, problem, t, h, u0, u1, stat, delta)
@@ -169,11 +170,29 @@ contains
       if (stat%code /= status_ok) return
       call self%restart()
       call default_newton_settings(u0, newton)
+      call problem%clear_rejection()
       call self%advance(problem, t, h, u0, u1, newton, stat, delta)
-      if (stat%code == status_ok .and. .not. all(ieee_is_finite(u1))) then
+      if (problem%evaluation_rejected()) then
+         call set_status(stat, status_evaluation_failed, &
+            "take_step: the problem could not evaluate f, g or a Jacobian during the step")
+      else if (stat%code == status_ok .and. .not. all(ieee_is_finite(u1))) then
          call set_status(stat, status_nonfinite, "take_step: the new state contains NaN or Inf")
       end if
+      call describe(stat, "take_step")
    end subroutine take_step
+
+   !> numerator / denominator for a stability function: at a pole (denominator exactly
+   !> zero) the huge real number, so that |R| > 1 there and nothing divides by zero.
+   elemental function stability_quotient(numerator, denominator) result(r)
+      !> Numerator and denominator of R(z, w)
+      complex(dp), intent(in) :: numerator, denominator
+      complex(dp) :: r
+      if (denominator == (0.0_dp, 0.0_dp)) then
+         r = cmplx(huge(1.0_dp), 0.0_dp, dp)
+      else
+         r = numerator/denominator
+      end if
+   end function stability_quotient
 
    !> Newton settings of a step taken without an integrator: increments below
    !> default_newton_tolerance * (1 + |u0|), default iteration limit, matrices kept.
@@ -195,17 +214,22 @@ contains
       class(scheme_type), intent(inout) :: self
    end subroutine restart
 
-   !> Record size n and the problem's Jacobian structure; true when they differ from
-   !> what the work arrays were prepared for (the caller then reallocates).
-   logical function resize(self, problem, n)
+   !> Record size n and the problem's (checked) Jacobian structure; true when they
+   !> differ from what the work arrays were prepared for (the caller then
+   !> reallocates). An impossible structure leaves stat set and returns false.
+   logical function resize(self, problem, n, stat)
       !> The scheme
       class(scheme_type), intent(inout) :: self
       !> The problem
       class(ode_problem), intent(in) :: problem
       !> Number of unknowns
       integer, intent(in) :: n
+      !> status_invalid_argument for an impossible structure
+      type(status_type), intent(inout) :: stat
       type(matrix_structure_type) :: structure
-      structure = problem%jacobian_structure(n)
+      resize = .false.
+      call problem%checked_structure(n, structure, stat)
+      if (stat%code /= status_ok) return
       resize = .not. (self%n == n .and. self%structure%storage == structure%storage .and. &
          self%structure%lower == structure%lower .and. self%structure%upper == structure%upper)
       self%n = n

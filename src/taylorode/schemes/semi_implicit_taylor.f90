@@ -14,7 +14,7 @@ module taylorode_schemes_semi_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
    implicit none
    private
 
@@ -106,9 +106,9 @@ contains
       complex(dp), intent(in) :: z, w
       complex(dp) :: r
       if (self%member == si_t_1) then
-         r = (1.0_dp + z)/(1.0_dp - w)
+         r = stability_quotient(1.0_dp + z, 1.0_dp - w)
       else
-         r = (1.0_dp + z + (z*z + z*w)/2.0_dp)/(1.0_dp - w + (z*w + w*w)/2.0_dp)
+         r = stability_quotient(1.0_dp + z + (z*z + z*w)/2.0_dp, 1.0_dp - w + (z*w + w*w)/2.0_dp)
       end if
    end function semi_implicit_stability
 
@@ -119,7 +119,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
-      if (.not. self%resize(problem, n)) return
+      if (.not. self%resize(problem, n, stat)) return
       call self%newton(si_t_1)%init(n, self%structure, stat)
       call self%newton(si_t_2)%init(n, product_structure(self%structure, self%structure), stat)
       call self%newton(si_t_2_paper)%init(n, product_structure(self%structure, self%structure), stat)

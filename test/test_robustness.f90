@@ -1,0 +1,834 @@
+!> Every promise of the README under bad input, faults and threads: each test here
+!> failed before the fix it guards (see the reliability issue's list).
+module test_robustness
+   use testdrive, only: new_unittest, unittest_type, error_type, check, skip_test
+   use test_support, only: differenced_brusselator, scratch, run_type, run_app, run_command, read_lines, line_type, has_line, &
+      file_exists, fresh_scratch, app_path, stat_message
+   use taylorode, only: dp, i8, ode_problem, ode_problem_fd, scheme_type, new_scheme, integrate, status_type, &
+      integrator_options_type, integration_stats_type, step_history_type, write_history_csv, status_ok, &
+      status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
+      status_evaluation_failed, status_newton_not_converged, status_newton_diverged, matrix_structure_type, &
+      band_structure
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
+   use taylorode_base_strings, only: format_real
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
+   use, intrinsic :: iso_c_binding, only: c_long_long
+   !$ use omp_lib, only: omp_get_max_threads
+   implicit none
+   private
+
+   public :: collect_robustness
+
+   interface
+      !> Heap allocations of this program so far (test/malloc_counter.c; -1 under ASan)
+      function allocation_count() result(count) bind(c, name="taylorode_allocation_count")
+         import :: c_long_long
+         integer(c_long_long) :: count
+      end function allocation_count
+      !> LAPACK's band LU, called directly with an illegal argument
+      subroutine dgbtrf(m, n, kl, ku, ab, ldab, ipiv, info)
+         import :: dp
+         integer, intent(in) :: m, n, kl, ku, ldab
+         real(dp), intent(inout) :: ab(ldab, *)
+         integer, intent(out) :: ipiv(*)
+         integer, intent(out) :: info
+      end subroutine dgbtrf
+   end interface
+
+   !> Problems whose non-stiff part is f = -u (Jacobians by differences)
+   type, abstract, extends(ode_problem_fd) :: decay_base_type
+   contains
+      procedure :: f => decay_f
+   end type decay_base_type
+
+   !> u' = -u (f) - 2u (g) with a stiff part that is NaN for t > t_bad
+   type, extends(decay_base_type) :: poisoned_after_type
+      real(dp) :: t_bad = 1.0_dp
+   contains
+      procedure :: g => poisoned_after_g
+   end type poisoned_after_type
+
+   !> u' = -u + g with g = -10 u, whose evaluations are rejected at states with u < limit
+   !> (a domain the true solution never leaves, but an overshooting iterate does)
+   type, extends(decay_base_type) :: domain_type
+      real(dp) :: limit = 0.3_dp
+   contains
+      procedure :: g => domain_g
+   end type domain_type
+
+   !> Linear decay whose declared Jacobian structure is set by the test
+   type, extends(decay_base_type) :: declared_band_type
+      integer :: lower = 0, upper = 0
+   contains
+      procedure :: g => coupled_g
+      procedure :: jacobian_structure => declared_structure
+   end type declared_band_type
+
+   !> Van der Pol without Jacobians (forward differences), mu = 10
+   type, extends(ode_problem_fd) :: vdp_differences_type
+   contains
+      procedure :: f => vdp_f
+      procedure :: g => vdp_g
+   end type vdp_differences_type
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_robustness(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("no-shell-for-user-text", test_no_shell), &
+         new_unittest("write-errors-reported", test_write_errors), &
+         new_unittest("full-disk-leaves-files-intact", test_full_disk), &
+         new_unittest("outputs-checked-before-work", test_outputs_checked_first), &
+         new_unittest("history-streamed-and-bounded", test_history_streamed), &
+         new_unittest("history-reused", test_history_reused), &
+         new_unittest("concurrent-integrations", test_concurrent_integrations), &
+         new_unittest("lapack-never-stops", test_lapack_never_stops), &
+         new_unittest("bandwidths-validated", test_bandwidths_validated), &
+         new_unittest("options-validated", test_options_validated), &
+         new_unittest("pure-relative-tolerance", test_pure_relative), &
+         new_unittest("tolerance-below-roundoff", test_tolerance_below_roundoff), &
+         new_unittest("nonfinite-reported-as-such", test_nonfinite_reported), &
+         new_unittest("no-allocation-per-step", test_no_allocation_per_step), &
+         new_unittest("evaluation-rejected", test_evaluation_rejected), &
+         new_unittest("command-line-bounded", test_command_line_bounds), &
+         new_unittest("numbers-parsed-strictly", test_strict_numbers), &
+         new_unittest("options-cross-checked-first", test_options_cross_checked), &
+         new_unittest("version-and-help", test_version_and_help), &
+         new_unittest("test-driver-lists-suites", test_driver_lists), &
+         new_unittest("no-executable-stack", test_no_executable_stack) &
+         ]
+   end subroutine collect_robustness
+
+   ! ------------------------------------------------------------ security, data
+
+   !> (1) Text from the command line never reaches a shell: --out '$(touch ...)' names a
+   !> directory, it does not run a command.
+   subroutine test_no_shell(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call fresh_scratch()
+      call run_command("cd "//scratch//" && "//app_path_from(scratch)//" stability --grid 3 --out '$(touch INJECTED)'", &
+         run)
+      call check(error, .not. file_exists(scratch//"/INJECTED"), "a shell ran text from the command line")
+      if (allocated(error)) return
+      call check(error, run%exit_status == 0 .and. file_exists(scratch//"/$(touch INJECTED)/s1_regions.csv"), &
+         "the directory is created exactly as named")
+   end subroutine test_no_shell
+
+   !> The app's path seen from inside a directory of the build tree
+   function app_path_from(directory) result(path)
+      character(len=*), intent(in) :: directory
+      character(len=:), allocatable :: path
+      integer :: k, depth
+      path = app_path()
+      if (path(1:1) == "/") return
+      depth = 1
+      do k = 1, len(directory)
+         if (directory(k:k) == "/") depth = depth + 1
+      end do
+      path = repeat("../", depth)//path
+   end function app_path_from
+
+   !> (2) Write errors are errors: a full device, a file-size limit mid-file, standard
+   !> output on a full device; an existing file is never left truncated.
+   subroutine test_write_errors(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      type(line_type), allocatable :: lines(:)
+      type(step_history_type) :: history
+      type(status_type) :: stat
+      integer :: unit
+
+      call fresh_scratch()
+      call run_app("vdp --mu 10 --tend 2 --history /dev/full --force", run)
+      call check(error, run%exit_status /= 0 .and. has_line(run%stderr, "cannot write"), &
+         "history on a full device reported as written")
+      if (allocated(error)) return
+      call run_command(app_path()//" --version > /dev/full", run)
+      call check(error, run%exit_status, 1, "standard output on a full device")
+      if (allocated(error)) return
+
+      ! the library's writer: a missing directory and a directory in place of the file
+      call write_history_csv(history, scratch//"/missing/h.csv", stat)
+      call check(error, stat%code, status_output_error, "write_history_csv into a missing directory")
+      if (allocated(error)) return
+      call write_history_csv(history, scratch//"/out", stat)
+      call check(error, stat%code, status_output_error, "write_history_csv onto a directory")
+   end subroutine test_write_errors
+
+   !> (2) On a full file system (a 16 KiB tmpfs) a history that does not fit is an
+   !> error, the file that was there is left as it was and no temporary file remains;
+   !> the library's writer behaves the same. Skipped where mounting is not allowed.
+   subroutine test_full_disk(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: disk = scratch//"/tiny"
+      type(run_type) :: run
+      type(line_type), allocatable :: lines(:)
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      real(dp) :: u(2)
+      integer :: unit
+
+      call fresh_scratch()
+      call run_command("mkdir -p "//disk//" && mount -t tmpfs -o size=16k tmpfs "//disk, run)
+      if (run%exit_status /= 0) then
+         call skip_test(error, "cannot mount a small tmpfs here (not root, or not allowed)")
+         return
+      end if
+      open (newunit=unit, file=disk//"/h.csv", status="replace", action="write")
+      write (unit, '(a)') "previous contents"
+      close (unit)
+      call run_app("vdp --mu 10 --tend 20 --history "//disk//"/h.csv --force", run)
+      call check(error, run%exit_status /= 0 .and. has_line(run%stderr, "No space left"), &
+         "a history that does not fit reported as written")
+      if (.not. allocated(error)) then
+         call read_lines(disk//"/h.csv", lines)
+         call check(error, size(lines) == 1 .and. has_line(lines, "previous contents"), &
+            "the existing file was overwritten by a partial one")
+      end if
+      if (.not. allocated(error)) then
+         call run_command("ls "//disk//" | grep -c tmp || true", run)
+         call check(error, has_line(run%stdout, "0"), "a temporary file was left behind")
+      end if
+      if (.not. allocated(error)) then
+         problem = new_van_der_pol(10.0_dp)
+         call new_scheme("i-t-2", scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 20.0_dp, u, integrator_options_type(), stats, stat, &
+            history=history)
+         call write_history_csv(history, disk//"/h.csv", stat)
+         call check(error, stat%code, status_output_error, "write_history_csv on a full file system")
+      end if
+      call run_command("umount "//disk, run)
+   end subroutine test_full_disk
+
+   !> (3) Every output target is checked before any work starts (exit status 2, nothing
+   !> written, no run started).
+   subroutine test_outputs_checked_first(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      integer :: unit
+      call fresh_scratch()
+      call run_app("stability --grid 3 --out "//scratch//"/missing/out", run)
+      call check(error, run%exit_status == 2 .and. has_line(run%stderr, "not a writable directory"), &
+         "--out below a missing directory")
+      if (allocated(error)) return
+      call run_app("vdp --mu 10 --tend 1 --history "//scratch//"/out", run)
+      call check(error, run%exit_status == 2 .and. has_line(run%stderr, "is a directory"), "history onto a directory")
+      if (allocated(error)) return
+      call run_app('vdp --history ""', run)
+      call check(error, run%exit_status == 2 .and. has_line(run%stderr, "needs a file name"), '--history ""')
+      if (allocated(error)) return
+      call run_app("vdp --mu 10 --tend 1 --history "//scratch//"/missing/h.csv", run)
+      call check(error, run%exit_status == 2 .and. size(run%stdout) == 0, "history in a missing directory")
+      if (allocated(error)) return
+      ! one existing file among the three of stability: nothing is run, nothing written
+      open (newunit=unit, file=scratch//"/out/l_stability.csv", status="replace", action="write")
+      close (unit)
+      call run_app("stability --grid 3 --out "//scratch//"/out", run)
+      call check(error, run%exit_status == 2 .and. size(run%stdout) == 0 .and. &
+         .not. file_exists(scratch//"/out/s1_regions.csv"), "an existing output found only after the run")
+      if (allocated(error)) return
+      call run_app("stability --grid 3 --out /proc/taylorode-test", run)
+      call check(error, run%exit_status, 2, "an output directory that cannot be created")
+   end subroutine test_outputs_checked_first
+
+   !> (4) A streamed history holds nothing in memory and writes every attempt; a bounded
+   !> one keeps at most its capacity and counts the rest.
+   subroutine test_history_streamed(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      type(line_type), allocatable :: lines(:)
+      real(dp) :: u(2)
+
+      call fresh_scratch()
+      problem = new_van_der_pol(10.0_dp)
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp, history_states=.true.)
+      call new_scheme("i-t-2", scheme, stat)
+      call history%stream_to(scratch//"/out/stream.csv", stat)
+      call check(error, stat%code, status_ok, "stream_to")
+      if (allocated(error)) return
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat, history=history)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, .not. file_exists(scratch//"/out/stream.csv"), "the stream appears before finish")
+      if (allocated(error)) return
+      call history%finish(stat)
+      call read_lines(scratch//"/out/stream.csv", lines)
+      call check(error, .not. allocated(history%t) .and. size(lines) == history%count + 1 .and. &
+         history%count == stats%accepted_steps + stats%rejected_steps(), "streamed rows")
+      if (allocated(error)) return
+      call check(error, lines(1)%text, "step,t,h,err,outcome,newton_iterations,u1,u2")
+      if (allocated(error)) return
+
+      history = step_history_type(capacity=50)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat, history=history)
+      call check(error, history%count == 50 .and. size(history%t) <= 50 .and. &
+         history%dropped == stats%accepted_steps + stats%rejected_steps() - 50, "bounded history")
+   end subroutine test_history_streamed
+
+   !> (8) One history for several integrations: states off then on, 2 then 3 unknowns.
+   subroutine test_history_reused(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      type(declared_band_type) :: three
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      real(dp) :: u(2), v(3)
+
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      u = problem%u0
+      options%history_states = .false.
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat, history=history)
+      call check(error, stat%code == status_ok .and. .not. allocated(history%states), "first integration")
+      if (allocated(error)) return
+      u = problem%u0
+      options%history_states = .true.
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat, history=history)
+      call check(error, stat%code == status_ok .and. size(history%states, 1) == 2 .and. &
+         history%count == stats%accepted_steps + stats%rejected_steps(), "states switched on")
+      if (allocated(error)) return
+      call check(error, all(history%states(:, history%count) == u), "last recorded state")
+      if (allocated(error)) return
+      v = [1.0_dp, 2.0_dp, 3.0_dp]
+      call integrate(three, scheme, 0.0_dp, 1.0_dp, v, options, stats, stat, history=history)
+      call check(error, stat%code == status_ok .and. size(history%states, 1) == 3 .and. &
+         all(history%states(:, history%count) == v), "three unknowns after two")
+   end subroutine test_history_reused
+
+   ! ------------------------------------------------------------ library contract
+
+   !> (5) Many integrations at once on separate objects, failing and succeeding ones,
+   !> give exactly their serial results, messages included. Threads run when the tests
+   !> are built with OpenMP (make test-threads); otherwise the loop runs serially.
+   subroutine test_concurrent_integrations(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: members = 64
+      real(dp) :: serial_u(2, members), parallel_u(2, members)
+      integer :: serial_code(members), parallel_code(members)
+      integer(i8) :: serial_steps(members), parallel_steps(members)
+      character(len=200) :: serial_message(members), parallel_message(members)
+      integer :: k
+
+      do k = 1, members
+         call run_member(k, serial_u(:, k), serial_code(k), serial_steps(k), serial_message(k))
+      end do
+      !$omp parallel do schedule(dynamic)
+      do k = 1, members
+         call run_member(k, parallel_u(:, k), parallel_code(k), parallel_steps(k), parallel_message(k))
+      end do
+      !$omp end parallel do
+      !$ call check(error, omp_get_max_threads() > 1, "built with OpenMP but running on one thread")
+      !$ if (allocated(error)) return
+      call check(error, count(serial_code /= status_ok) >= members/4 .and. count(serial_code == status_ok) >= &
+         members/4, "the members should mix failures and successes")
+      if (allocated(error)) return
+      do k = 1, members
+         ! bit for bit (NaN included)
+         call check(error, all(transfer(parallel_u(:, k), 0_i8, 2) == transfer(serial_u(:, k), 0_i8, 2)) .and. &
+            parallel_code(k) == serial_code(k) .and. &
+            parallel_steps(k) == serial_steps(k) .and. parallel_message(k) == serial_message(k), &
+            "member differs from its serial run: "//trim(parallel_message(k)))
+         if (allocated(error)) return
+      end do
+   end subroutine test_concurrent_integrations
+
+   !> One ensemble member: Van der Pol with its own mu; every fourth member runs into
+   !> NaN, every fourth into its step budget, every fourth into Newton failures.
+   recursive subroutine run_member(k, u, code, steps, message)
+      integer, intent(in) :: k
+      real(dp), intent(out) :: u(2)
+      integer, intent(out) :: code
+      integer(i8), intent(out) :: steps
+      character(len=*), intent(out) :: message
+      type(van_der_pol_type) :: problem
+      type(poisoned_after_type) :: poisoned
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: v(1)
+
+      problem = new_van_der_pol(5.0_dp + real(k, dp))
+      options = integrator_options_type(rtol=1.0e-5_dp, atol=1.0e-5_dp)
+      call new_scheme(merge("i-t-2 ", "si-t-2", mod(k, 2) == 0), scheme, stat)
+      u = problem%u0
+      select case (mod(k, 4))
+      case (0)
+         call integrate(problem, scheme, 0.0_dp, 20.0_dp, u, options, stats, stat)
+      case (1)
+         poisoned%t_bad = 0.5_dp + 0.01_dp*k
+         v = 1.0_dp
+         call integrate(poisoned, scheme, 0.0_dp, 2.0_dp, v, options, stats, stat)
+         u = [v(1), stats%t_reached]
+      case (2)
+         options%max_steps = 10 + k
+         call integrate(problem, scheme, 0.0_dp, 20.0_dp, u, options, stats, stat)
+      case default
+         options%max_newton_iterations = 2
+         options%max_failures = 2
+         options%h0 = 0.5_dp
+         problem%mu = 1.0e4_dp
+         call integrate(problem, scheme, 0.0_dp, 20.0_dp, u, options, stats, stat)
+      end select
+      code = stat%code
+      steps = stats%accepted_steps + stats%rejected_steps()
+      message = ""
+      if (allocated(stat%message)) message = stat%message
+   end subroutine run_member
+
+   !> (6) LAPACK never prints or stops: called with an illegal argument it returns a
+   !> negative info (the library's xerbla), and the wrappers never pass one.
+   subroutine test_lapack_never_stops(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: ab(4, 3)
+      integer :: pivots(3), info
+      ab = 1.0_dp
+      call dgbtrf(3, 3, -1, 1, ab, 4, pivots, info)
+      call check(error, info, -3, "dgbtrf with kl = -1 must return info = -3")
+   end subroutine test_lapack_never_stops
+
+   !> (7) Bandwidths are validated: a band wider than the matrix is dense storage (the
+   !> same answer as dense), a negative bandwidth is an error.
+   subroutine test_bandwidths_validated(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(declared_band_type) :: wide, dense, negative
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u_wide(3), u_dense(3)
+      character(len=*), parameter :: names(3) = [character(len=8) :: "si-t-2", "i-t-2", "ex-t-2"]
+      integer :: k
+
+      wide%lower = 5
+      wide%upper = 5
+      dense%lower = 2
+      dense%upper = 2
+      negative%lower = 1
+      negative%upper = -2
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_wide = [1.0_dp, 2.0_dp, 3.0_dp]
+         call integrate(wide, scheme, 0.0_dp, 1.0_dp, u_wide, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//" with bandwidths 5, 5 and n = 3: "// &
+            stat_message(stat))
+         if (allocated(error)) return
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_dense = [1.0_dp, 2.0_dp, 3.0_dp]
+         call integrate(dense, scheme, 0.0_dp, 1.0_dp, u_dense, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//" with bandwidths 2, 2 and n = 3: "// &
+            stat_message(stat))
+         if (allocated(error)) return
+         ! the same arithmetic up to the order of summation in the LU factorizations
+         call check(error, maxval(abs(u_wide - u_dense)) <= 1.0e-9_dp, trim(names(k))//": wide band differs by "// &
+            format_real(maxval(abs(u_wide - u_dense)), 3))
+         if (allocated(error)) return
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_dense = [1.0_dp, 2.0_dp, 3.0_dp]
+         call integrate(negative, scheme, 0.0_dp, 1.0_dp, u_dense, options, stats, stat)
+         call check(error, stat%code, status_invalid_argument, trim(names(k))//" with a negative bandwidth")
+         if (allocated(error)) return
+      end do
+   end subroutine test_bandwidths_validated
+
+   !> (9) Options that cannot mean anything are rejected: infinite tolerances, an
+   !> infinite q, NaN kappa, one Newton iteration.
+   subroutine test_options_validated(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: inf, nan
+      inf = ieee_value(1.0_dp, ieee_positive_inf)
+      nan = ieee_value(1.0_dp, ieee_quiet_nan)
+      call expect_invalid(integrator_options_type(rtol=inf), "rtol")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(atol=inf), "atol")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(atol_vector=[1.0e-6_dp, inf]), "atol_vector")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(q=inf), "q")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(q=0.5_dp), "q")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(kappa=nan), "kappa")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(h_max=inf), "h_max")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(max_growth=inf), "max_growth")
+      if (allocated(error)) return
+      call expect_invalid(integrator_options_type(max_newton_iterations=1), "max_newton_iterations")
+   contains
+      subroutine expect_invalid(options, word)
+         type(integrator_options_type), intent(in) :: options
+         character(len=*), intent(in) :: word
+         type(van_der_pol_type) :: problem
+         class(scheme_type), allocatable :: scheme
+         type(integration_stats_type) :: stats
+         type(status_type) :: stat
+         real(dp) :: u(2)
+         problem = new_van_der_pol(10.0_dp)
+         call new_scheme("i-t-2", scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         call check(error, stat%code == status_invalid_argument .and. index(stat_message(stat), word) > 0, &
+            "option "//word//" accepted: "//stat_message(stat))
+      end subroutine expect_invalid
+   end subroutine test_options_validated
+
+   !> (9) Pure relative control (atol = 0) works, also with a component that starts at zero.
+   subroutine test_pure_relative(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(4) = [character(len=9) :: "si-t-2", "i-t-2", "imex-rk21", "radau5"]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), reference(2)
+      integer :: k
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("radau5", scheme, stat)
+      reference = [2.0_dp, 0.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 5.0_dp, reference, integrator_options_type(rtol=1.0e-12_dp, &
+         atol=1.0e-12_dp), stats, stat)
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=0.0_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = [2.0_dp, 0.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//" with atol = 0: "//stat_message(stat))
+         if (allocated(error)) return
+         ! a relative tolerance of 1e-6 buys a relative accuracy well below 1e-2 here
+         call check(error, maxval(abs(u - reference))/maxval(abs(reference)) < 1.0e-2_dp, &
+            trim(names(k))//" with atol = 0: inaccurate")
+         if (allocated(error)) return
+      end do
+   end subroutine test_pure_relative
+
+   !> (9) A tolerance below roundoff is raised to what double precision resolves, and
+   !> the statistics say so.
+   subroutine test_tolerance_below_roundoff(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      problem = new_van_der_pol(1.0_dp)
+      call new_scheme("radau5", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(rtol=1.0e-16_dp, atol=1.0e-16_dp), &
+         stats, stat)
+      call check(error, stat%code == status_ok .and. stats%weights_raised, "1e-16 not raised: "//stat_message(stat))
+      if (allocated(error)) return
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp), &
+         stats, stat)
+      call check(error, stat%code == status_ok .and. .not. stats%weights_raised, "1e-8 must not be raised")
+   end subroutine test_tolerance_below_roundoff
+
+   !> (10) A stiff part that turns NaN is reported as non-finite (not as a step-size
+   !> underflow after creeping up to the NaN point), by every implicit scheme.
+   subroutine test_nonfinite_reported(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(5) = [character(len=10) :: "si-t-1", "si-t-2", "i-t-2", "imex-rk21", &
+         "radau5"]
+      type(poisoned_after_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+      integer :: k
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = 1.0_dp
+         call integrate(problem, scheme, 0.0_dp, 2.0_dp, u, integrator_options_type(), stats, stat)
+         call check(error, stat%code, status_nonfinite, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, stats%t_reached <= problem%t_bad .and. stats%t_reached > 0.9_dp*problem%t_bad .and. &
+            stats%rejected_nonfinite > 0, trim(names(k))//": stopped at the wrong place or without counting")
+         if (allocated(error)) return
+      end do
+   end subroutine test_nonfinite_reported
+
+   !> (11) The heap allocations of an integration do not grow with its number of steps:
+   !> every scheme, finite-difference Jacobians (dense and grouped band) and failed
+   !> attempts included. Compared: [0, 3] against [0, 30] (far more steps).
+   subroutine test_no_allocation_per_step(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(7) = [character(len=12) :: "ex-t-2", "si-t-1", "si-t-2", &
+         "i-t-1", "i-t-2", "imex-rk21", "radau5"]
+      type(van_der_pol_type) :: problem
+      type(vdp_differences_type) :: differences
+      type(differenced_brusselator) :: band
+      type(integrator_options_type) :: options
+      integer :: k
+
+      if (allocation_count() < 0) then
+         call skip_test(error, "allocations are not counted under AddressSanitizer")
+         return
+      end if
+      problem = new_van_der_pol(10.0_dp)
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
+      do k = 1, size(names)
+         call compare_runs(problem, trim(names(k)), options, 3.0_dp, 30.0_dp, trim(names(k)))
+         if (allocated(error)) return
+      end do
+      call compare_runs(differences, "i-t-2", options, 3.0_dp, 30.0_dp, "dense differences")
+      if (allocated(error)) return
+      band%model = new_brusselator(20)
+      call compare_runs(band, "si-t-2", options, 0.02_dp, 2.0_dp, "grouped band differences")
+      if (allocated(error)) return
+      options%max_newton_iterations = 2
+      call compare_runs(problem, "i-t-2", options, 3.0_dp, 30.0_dp, "failed attempts", failures=.true.)
+   contains
+      subroutine compare_runs(model, name, options, short_end, long_end, label, failures)
+         class(ode_problem), intent(inout) :: model
+         character(len=*), intent(in) :: name, label
+         type(integrator_options_type), intent(in) :: options
+         real(dp), intent(in) :: short_end, long_end
+         logical, intent(in), optional :: failures
+         class(scheme_type), allocatable :: scheme
+         type(integration_stats_type) :: short_stats, long_stats
+         type(status_type) :: stat
+         real(dp), allocatable :: u0(:), u(:)
+         integer(c_long_long) :: before, short_run, long_run
+         select type (model)
+         type is (differenced_brusselator)
+            u0 = model%model%u0
+         class default
+            u0 = [2.0_dp, 0.0_dp]
+         end select
+         call new_scheme(name, scheme, stat)
+         ! the first integration sizes the scheme's work arrays
+         u = u0
+         call integrate(model, scheme, 0.0_dp, 0.1_dp*short_end, u, options, short_stats, stat)
+         u = u0
+         before = allocation_count()
+         call integrate(model, scheme, 0.0_dp, short_end, u, options, short_stats, stat)
+         short_run = allocation_count() - before
+         u = u0
+         before = allocation_count()
+         call integrate(model, scheme, 0.0_dp, long_end, u, options, long_stats, stat)
+         long_run = allocation_count() - before
+         call check(error, stat%code, status_ok, label//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, long_stats%accepted_steps > 5*short_stats%accepted_steps, label//": runs too alike")
+         if (allocated(error)) return
+         if (present(failures)) then
+            call check(error, long_stats%rejected_newton > short_stats%rejected_newton, label//": no failed attempts")
+            if (allocated(error)) return
+         end if
+         call check(error, int(long_run), int(short_run), label//": allocations grow with the steps")
+      end subroutine compare_runs
+   end subroutine test_no_allocation_per_step
+
+   !> (12) A problem can say "I can't evaluate here": an overshooting Newton iterate is
+   !> rejected and the step retried (the integration succeeds); a solution that must
+   !> leave the domain ends with status_evaluation_failed.
+   subroutine test_evaluation_rejected(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(4) = [character(len=9) :: "si-t-2", "i-t-2", "imex-rk21", "radau5"]
+      type(domain_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+      integer :: k
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = 1.0_dp
+         problem%limit = 0.3_dp
+         ! the true solution exp(-11 t) stays above 0.33 on [0, 0.1]; a first step of 1 does not
+         call integrate(problem, scheme, 0.0_dp, 0.1_dp, u, integrator_options_type(h0=0.1_dp, rtol=1.0e-6_dp, &
+            atol=1.0e-8_dp, h_max=0.1_dp), stats, stat)
+         call check(error, stat%code == status_ok .and. abs(u(1) - exp(-1.1_dp)) < 1.0e-4_dp, &
+            trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         u = 1.0_dp
+         problem%limit = 0.5_dp
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(), stats, stat)
+         call check(error, stat%code, status_evaluation_failed, trim(names(k))//" leaving the domain: "// &
+            stat_message(stat))
+         if (allocated(error)) return
+         call check(error, stats%rejected_evaluation > 0 .and. u(1) >= 0.5_dp, trim(names(k))//": last state")
+         if (allocated(error)) return
+      end do
+   end subroutine test_evaluation_rejected
+
+   ! ------------------------------------------------------------ command line
+
+   !> (13) Every count has an upper bound, and vdp has a step budget.
+   subroutine test_command_line_bounds(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call expect_status("vdp --dense 2147483647", 2, "at most")
+      if (allocated(error)) return
+      call expect_status("table --repeats 1000000", 2, "at most")
+      if (allocated(error)) return
+      call expect_status("stability --grid 100000", 2, "at most")
+      if (allocated(error)) return
+      call expect_status("bench --max-points 999999999", 2, "at most")
+      if (allocated(error)) return
+      call expect_status("sweep --budget 99999999999999", 2, "at most")
+      if (allocated(error)) return
+      call expect_status("sweep --tols 1e-1:1e-30", 2, "decades")
+      if (allocated(error)) return
+      call run_app("vdp --tend 1e300 --budget 2000", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stdout, "maximum steps reached"), &
+         "vdp --tend 1e300 must stop at its budget")
+   contains
+      subroutine expect_status(arguments, expected, words)
+         character(len=*), intent(in) :: arguments, words
+         integer, intent(in) :: expected
+         call run_app(arguments, run)
+         call check(error, run%exit_status == expected .and. has_line(run%stderr, words), &
+            "taylorode "//arguments)
+      end subroutine expect_status
+   end subroutine test_command_line_bounds
+
+   !> (14) Numbers are parsed strictly: "1-2" is not 1e-2 and "1+2" not 100.
+   subroutine test_strict_numbers(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      character(len=*), parameter :: bad(6) = [character(len=6) :: "1-2", "1+2", "1e", ".", "1.2.3", "0x10"]
+      integer :: k
+      do k = 1, size(bad)
+         call run_app("vdp --mu "//trim(bad(k)), run)
+         call check(error, run%exit_status == 2 .and. has_line(run%stderr, "needs a number"), &
+            "--mu "//trim(bad(k))//" accepted")
+         if (allocated(error)) return
+      end do
+      call run_app("vdp --mu 1.5e+1 --tend 1 --dense 2", run)
+      call check(error, run%exit_status == 0 .and. has_line(run%stdout, "mu = 15,"), "--mu 1.5e+1")
+   end subroutine test_strict_numbers
+
+   !> (15) Options are cross-checked before any work (no reference run first).
+   subroutine test_options_cross_checked(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call run_app("vdp --h0 1 --hmax 0.1", run)
+      call check(error, run%exit_status == 2 .and. has_line(run%stderr, "h0 must lie in") .and. &
+         size(run%stdout) == 0 .and. .not. has_line(run%stderr, "reference"), "h0 > hmax found after the run")
+   end subroutine test_options_cross_checked
+
+   !> (16) --version and help are known.
+   subroutine test_version_and_help(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call run_app("--version", run)
+      call check(error, run%exit_status == 0 .and. has_line(run%stdout, "taylorode 0."), "--version")
+      if (allocated(error)) return
+      call run_app("help", run)
+      call check(error, run%exit_status == 0 .and. has_line(run%stdout, "usage: taylorode"), "help")
+      if (allocated(error)) return
+      call run_app("help sweep", run)
+      call check(error, run%exit_status == 0 .and. has_line(run%stdout, "taylorode sweep:"), "help sweep")
+   end subroutine test_version_and_help
+
+   !> (16) The test driver, asked for a suite it does not have, lists the suites and
+   !> ends without a backtrace.
+   subroutine test_driver_lists(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      character(len=4096) :: self
+      call get_command_argument(0, self)
+      call run_command(trim(self)//" nosuch", run)
+      call check(error, run%exit_status /= 0 .and. has_line(run%stderr, "robustness") .and. &
+         .not. has_line(run%stderr, "Backtrace"), "unknown suite")
+      if (allocated(error)) return
+      call run_command(trim(self)//" base nosuch", run)
+      call check(error, run%exit_status /= 0 .and. has_line(run%stderr, "number-formats"), "unknown test")
+   end subroutine test_driver_lists
+
+   !> (17) The app binary does not need an executable stack.
+   subroutine test_no_executable_stack(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call run_command("command -v readelf", run)
+      if (run%exit_status /= 0) then
+         call skip_test(error, "readelf (binutils) is not installed")
+         return
+      end if
+      call run_command("readelf -lW "//app_path()//" | grep GNU_STACK", run)
+      call check(error, run%exit_status == 0 .and. size(run%stdout) == 1, "no GNU_STACK header")
+      if (allocated(error)) return
+      call check(error, index(run%stdout(1)%text, "RWE") == 0, "executable stack: "//run%stdout(1)%text)
+   end subroutine test_no_executable_stack
+
+   ! ------------------------------------------------------------ problems
+
+   subroutine decay_f(self, t, u, dudt)
+      class(decay_base_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -u
+   end subroutine decay_f
+
+   subroutine poisoned_after_g(self, t, u, dudt)
+      class(poisoned_after_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      if (t > self%t_bad) then
+         dudt = ieee_value(1.0_dp, ieee_quiet_nan)
+      else
+         dudt = -2.0_dp*u
+      end if
+   end subroutine poisoned_after_g
+
+   subroutine domain_g(self, t, u, dudt)
+      class(domain_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      if (u(1) < self%limit) call self%reject_evaluation()
+      dudt = -10.0_dp*u
+   end subroutine domain_g
+
+   subroutine coupled_g(self, t, u, dudt)
+      class(declared_band_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      integer :: i
+      do i = 1, size(u)
+         dudt(i) = -10.0_dp*u(i)
+         if (i > 1) dudt(i) = dudt(i) + u(i - 1)
+      end do
+   end subroutine coupled_g
+
+   function declared_structure(self, n) result(structure)
+      class(declared_band_type), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      structure = band_structure(self%lower, self%upper)
+   end function declared_structure
+
+   subroutine vdp_f(self, t, u, dudt)
+      class(vdp_differences_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = [u(2), -u(1)]
+   end subroutine vdp_f
+
+   subroutine vdp_g(self, t, u, dudt)
+      class(vdp_differences_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = [0.0_dp, 10.0_dp*(1.0_dp - u(1)**2)*u(2)]
+   end subroutine vdp_g
+
+end module test_robustness
