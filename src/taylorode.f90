@@ -38,7 +38,10 @@ module taylorode
       attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, &
       attempt_name
    use taylorode_integrate_stats, only: integration_stats_type
-   use taylorode_integrate_integrator, only: integrate
+   use taylorode_integrate_integrator, only: integrate, integrator_type
+   use taylorode_integrate_step, only: accepted_step_type
+   use taylorode_integrate_observer, only: step_observer_type
+   use taylorode_integrate_events, only: event_functions_type, event_rising, event_falling, event_any
    implicit none
    private
 
@@ -50,7 +53,8 @@ module taylorode
    public :: ode_problem, ode_problem_fd, matrix_structure_type, dense_structure, band_structure
    public :: scheme_type, counters_type, new_scheme, scheme_names, scheme_count
    public :: integrate_fixed
-   public :: integrate, integration_stats_type, integrator_options_type, paper_options
+   public :: integrate, integrator_type, integration_stats_type, integrator_options_type, paper_options
+   public :: accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling, event_any
    public :: controller_i, controller_pi, controller_pid, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
    public :: step_history_type, write_history_csv, attempt_accepted, attempt_rejected_error, &

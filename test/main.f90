@@ -5,6 +5,7 @@ program tester
    use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type, get_argument
    use test_app, only: collect_app
    use test_base, only: collect_base
+   use test_features, only: collect_features
    use test_integrator, only: collect_integrator
    use test_problems, only: collect_problems
    use test_reference, only: collect_reference
@@ -23,6 +24,7 @@ program tester
       new_testsuite("schemes", collect_schemes), &
       new_testsuite("integrator", collect_integrator), &
       new_testsuite("reference", collect_reference), &
+      new_testsuite("features", collect_features), &
       new_testsuite("app", collect_app), &
       new_testsuite("robustness", collect_robustness) &
       ]

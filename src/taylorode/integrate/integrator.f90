@@ -1,6 +1,9 @@
 !> The adaptive integrator: embedded error control with the I, PI and PID
-!> controllers (METHODS.md section 3), statistics by cause, optional step history
-!> and dense output, and failures that return the last good state.
+!> controllers (METHODS.md section 3), statistics by cause, optional step history,
+!> dense output, an observer and events, failures that return the last good state,
+!> and continuation: an `integrator_type` keeps the step size, the controller's
+!> memory and (in the scheme) the factored Newton matrices from one `advance_to` to
+!> the next, so that many short calls cost what one long call costs.
 module taylorode_integrate_integrator
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
@@ -12,20 +15,53 @@ module taylorode_integrate_integrator
    use taylorode_integrate_options, only: integrator_options_type, validate_options
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_stepper, only: stepper_type
-   use taylorode_integrate_dense_output, only: dense_output_type
+   use taylorode_integrate_step, only: accepted_step_type
+   use taylorode_integrate_observer, only: step_observer_type
+   use taylorode_integrate_events, only: event_functions_type
    use taylorode_integrate_history, only: step_history_type, attempt_accepted, attempt_rejected_error, &
       attempt_failed_nonfinite, attempt_failed_evaluation
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    implicit none
    private
 
-   public :: integrate
+   public :: integrate, integrator_type
 
    !> Step-size factor after a failed attempt (Newton failure or NaN/Inf values)
    real(dp), parameter :: failure_shrink = 0.25_dp
    !> Steps shorter than this many roundoffs of t cannot advance t reliably (the fast
    !> layers of Van der Pol with mu = 1e6 need steps of ~17 roundoffs of t)
    real(dp), parameter :: roundoff_steps = 2.0_dp
+
+   !> An integration that can be continued: `init` once, then `advance_to` as often as
+   !> needed with the same problem type and scheme. Between calls the caller may
+   !> change the state (operator splitting): the next call starts from the state it
+   !> is given, with the step size, the controller's memory and the scheme's factored
+   !> Newton matrices kept.
+   type :: integrator_type
+      !> Tolerances, controller and limits (validated by init)
+      type(integrator_options_type) :: options
+      !> Current time and the step size the next call starts with
+      real(dp) :: t = 0.0_dp, h = 0.0_dp
+      !> Statistics since init (each call also returns its own)
+      type(integration_stats_type) :: total
+      !> Unknowns, and whether init succeeded
+      integer :: n = 0
+      logical :: ready = .false.
+      !> Name of the scheme init prepared (later calls must pass the same scheme)
+      character(len=:), allocatable :: scheme_name
+      !> One attempt's work arrays and the controller's memory
+      type(stepper_type) :: stepper
+      !> The last accepted step (states and derivatives at both ends), kept when dense
+      !> output, events or an observer need it
+      type(accepted_step_type) :: step
+      !> Work space for F = f + g
+      real(dp), allocatable, private :: scratch(:)
+   contains
+      !> Check everything and prepare the scheme at (t0, u0)
+      procedure :: init
+      !> Integrate from the current time to t_target
+      procedure :: advance_to
+   end type integrator_type
 
 contains
 
@@ -35,8 +71,10 @@ contains
    !> accepted state, at stats%t_reached, and stat says why. With `t_out` (ascending
    !> times in [t0, t_end]) the solution at those times comes back in u_out(:, k)
    !> from the cubic Hermite interpolant of each accepted step. With `history`
-   !> every attempted step is recorded. Backward integration (t_end < t0) is not
-   !> supported: substitute s = -t.
+   !> every attempted step is recorded; `observer` is called after every accepted
+   !> step; `events` locates zero crossings (a terminal one ends the integration
+   !> there, with status ok). Backward integration (t_end < t0) is not supported:
+   !> substitute s = -t.
    !>
    !> Failed attempts (Newton failure, NaN or Inf, an evaluation the problem rejected)
    !> are retried from the same state with a quarter of the step; the integration
@@ -44,7 +82,7 @@ contains
    !> or rejected evaluations without getting past the point where the first of them
    !> happened (status_nonfinite, status_evaluation_failed). Messages are built in
    !> fixed-length buffers, so concurrent integrations on separate objects are safe.
-   subroutine integrate(problem, scheme, t0, t_end, u, options, stats, stat, history, t_out, u_out)
+   subroutine integrate(problem, scheme, t0, t_end, u, options, stats, stat, history, t_out, u_out, observer, events)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> The scheme (see new_scheme); its embedded pair gives the error estimate
@@ -67,79 +105,198 @@ contains
       real(dp), intent(in), optional :: t_out(:)
       !> Dense output, size(u) x size(t_out)
       real(dp), intent(out), optional :: u_out(:, :)
+      !> Called after every accepted step
+      class(step_observer_type), intent(inout), optional :: observer
+      !> Event functions whose crossings are located
+      class(event_functions_type), intent(inout), optional :: events
+      type(integrator_type) :: integrator
 
+      stats%t_reached = t0
+      if (.not. (ieee_is_finite(t_end) .and. t_end > t0)) then
+         call set_status(stat, status_invalid_argument, "integrate: t_end must be finite and greater than t0 "// &
+            "(backward integration is not supported: substitute s = -t)")
+         return
+      end if
+      call integrator%init(problem, scheme, t0, u, options, stat)
+      if (stat%code /= status_ok) then
+         stats = integrator%total
+         stats%t_reached = t0
+         return
+      end if
+      call integrator%advance_to(problem, scheme, t_end, u, stat, stats, history, t_out, u_out, observer, events)
+      ! the work of init (F at t0 for the first step size) belongs to this integration
+      stats%work = integrator%total%work
+   end subroutine integrate
+
+   !> Check the sizes, times, initial state and options, prepare the scheme for the
+   !> problem (forgetting what it kept from earlier integrations) and choose the first
+   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w).
+   subroutine init(self, problem, scheme, t0, u0, options, stat)
+      !> The integrator
+      class(integrator_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> The scheme
+      class(scheme_type), intent(inout) :: scheme
+      !> Initial time
+      real(dp), intent(in) :: t0
+      !> Initial state
+      real(dp), intent(in) :: u0(:)
+      !> Tolerances, controller and limits
+      type(integrator_options_type), intent(in) :: options
+      !> Outcome
+      type(status_type), intent(out) :: stat
+      type(counters_type) :: work_before
+      real(dp) :: size_u, size_f
+
+      self%ready = .false.
+      self%total = integration_stats_type()
+      self%total%t_reached = t0
+      self%t = t0
+      self%n = size(u0)
+      if (self%n < 1) then
+         call set_status(stat, status_size_mismatch, "integrate: the state is empty")
+         return
+      end if
+      if (.not. ieee_is_finite(t0)) then
+         call set_status(stat, status_invalid_argument, "integrate: t0 must be finite")
+         return
+      end if
+      if (.not. all(ieee_is_finite(u0))) then
+         call set_status(stat, status_nonfinite, "integrate: the initial state contains NaN or Inf")
+         return
+      end if
+      call validate_options(options, self%n, stat)
+      if (stat%code /= status_ok) return
+      call scheme%prepare(problem, self%n, stat)
+      if (stat%code /= status_ok) return
+      self%options = options
+      self%scheme_name = scheme%name
+      call scheme%restart()
+      call self%stepper%start(self%n, scheme, options)
+      if (allocated(self%scratch)) deallocate (self%scratch)
+      allocate (self%scratch(self%n))
+
+      self%h = options%h0
+      if (self%h == 0.0_dp) then
+         work_before = scheme%counters
+         call evaluate_start(self, problem, scheme, t0, u0, self%stepper%delta, stat)
+         call add_work(self%total, scheme%counters, work_before)
+         if (stat%code /= status_ok) return
+         call self%stepper%set_weights(options, u0, u0)
+         size_u = self%stepper%weighted_norm(options, u0)
+         size_f = self%stepper%weighted_norm(options, self%stepper%delta)
+         if (size_u < 1.0e-5_dp .or. size_f < 1.0e-5_dp .or. .not. ieee_is_finite(size_f)) then
+            self%h = 1.0e-6_dp
+         else
+            self%h = 0.01_dp*size_u/size_f
+         end if
+         self%h = max(self%h, options%h_min)
+      end if
+      self%h = min(self%h, options%h_max)
+      self%ready = .true.
+   end subroutine init
+
+   !> F(t, u) into rhs; a rejected evaluation or NaN/Inf there is an error.
+   subroutine evaluate_start(self, problem, scheme, t, u, rhs, stat)
+      type(integrator_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      class(scheme_type), intent(inout) :: scheme
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: rhs(:)
+      type(status_type), intent(inout) :: stat
+      call problem%clear_rejection()
+      call evaluate_rhs(problem, t, u, rhs, self%scratch, scheme%counters)
+      if (problem%evaluation_rejected()) then
+         call set_status(stat, status_evaluation_failed, "integrate: the problem cannot evaluate f or g at the "// &
+            "initial state")
+      else if (.not. all(ieee_is_finite(rhs))) then
+         call set_status(stat, status_nonfinite, "integrate: f or g is NaN or Inf at the initial state")
+      end if
+   end subroutine evaluate_start
+
+   !> Integrate from the current time to t_target (> current time) with the same
+   !> problem and scheme as init. u holds the state at the current time on entry (it
+   !> may have been changed since the last call) and the state at t_target on exit;
+   !> on failure the last accepted state, at stats%t_reached, with stat saying why. A
+   !> terminal event or an observer's stop ends the call early with status ok.
+   !> options%max_steps bounds the attempts of each call.
+   subroutine advance_to(self, problem, scheme, t_target, u, stat, stats, history, t_out, u_out, observer, events)
+      !> The integrator, initialized
+      class(integrator_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> The scheme init prepared
+      class(scheme_type), intent(inout) :: scheme
+      !> Where to stop
+      real(dp), intent(in) :: t_target
+      !> State at the current time on entry, at t_target (or where it stopped) on exit
+      real(dp), intent(inout) :: u(:)
+      !> Outcome
+      type(status_type), intent(out) :: stat
+      !> Steps, rejections by cause, evaluations, step sizes and times of this call
+      type(integration_stats_type), intent(out), optional :: stats
+      !> Every attempted step, when present
+      type(step_history_type), intent(inout), optional :: history
+      !> Output times (ascending, inside [current time, t_target])
+      real(dp), intent(in), optional :: t_out(:)
+      !> Dense output, size(u) x size(t_out)
+      real(dp), intent(out), optional :: u_out(:, :)
+      !> Called after every accepted step
+      class(step_observer_type), intent(inout), optional :: observer
+      !> Event functions whose crossings are located
+      class(event_functions_type), intent(inout), optional :: events
+
+      type(integration_stats_type) :: call_stats
       type(counters_type) :: work_before
       type(status_type) :: step_stat
-      type(stepper_type) :: stepper
-      type(dense_output_type) :: output
-      real(dp), allocatable :: scratch(:)
-      real(dp) :: t, h, h_next, err, nan, trouble_end
+      real(dp) :: t, h, h_next, h_natural, err, nan, trouble_end, t_stop
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
-      integer :: failures, troubles, n, outcome
-      logical :: last
+      integer :: failures, troubles, outcome, next_output
+      logical :: last, need_step, stop_here
       character(len=400) :: text
 
       call system_clock(clock_start, clock_rate)
       call cpu_time(cpu_start)
       work_before = scheme%counters
-      stats%t_reached = t0
-      n = size(u)
+      t = self%t
+      call_stats%t_reached = t
       nan = ieee_value(1.0_dp, ieee_quiet_nan)
+      need_step = present(t_out) .or. present(observer) .or. present(events)
 
-      call check_arguments()
-      if (stat%code == status_ok) call scheme%prepare(problem, n, stat)
+      call check_call()
+      if (stat%code == status_ok .and. present(history)) &
+         call history%start(merge(self%n, 0, self%options%history_states), stat)
+      if (stat%code == status_ok .and. need_step) then
+         call self%step%reserve(self%n)
+         call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
+      end if
+      if (stat%code == status_ok .and. present(events)) call events%start(t, u, stat)
       if (stat%code /= status_ok) then
          call finish()
          return
       end if
-      if (present(history)) then
-         call history%start(merge(n, 0, options%history_states), stat)
-         if (stat%code /= status_ok) then
-            call finish()
-            return
-         end if
-      end if
-      call scheme%restart()
-      call stepper%start(n, scheme, options)
-      allocate (scratch(n))
+      next_output = 1
+      if (present(t_out)) call emit_outputs_up_to(t)
 
-      t = t0
-      if (present(t_out) .or. options%h0 == 0.0_dp) then
-         ! F(t0, U0) serves dense output and the first step size: it must be usable
-         call problem%clear_rejection()
-         call evaluate_rhs(problem, t, u, stepper%delta, scratch, scheme%counters)
-         if (problem%evaluation_rejected()) then
-            call set_status(stat, status_evaluation_failed, &
-               "integrate: the problem cannot evaluate f or g at the initial state")
-         else if (.not. all(ieee_is_finite(stepper%delta))) then
-            call set_status(stat, status_nonfinite, "integrate: f or g is NaN or Inf at the initial state")
-         end if
-         if (stat%code /= status_ok) then
-            call finish()
-            return
-         end if
-      end if
-      if (present(t_out)) call output%start(t0, u, stepper%delta, t_out, u_out)
-      h = options%h0
-      if (h == 0.0_dp) h = initial_step()
-      h = min(h, options%h_max)
-
+      h = self%h
+      h_natural = h
       attempts = 0
       failures = 0
       troubles = 0
-      trouble_end = t0
-      err = nan
-      do while (t < t_end)
-         if (attempts >= options%max_steps) then
+      trouble_end = t
+      do while (t < t_target)
+         if (attempts >= self%options%max_steps) then
             write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", es13.6e3)') &
-               options%max_steps, t
+               self%options%max_steps, t
             call set_status(stat, status_max_steps, trim(text))
             exit
          end if
-         last = t + h >= t_end - roundoff_steps*epsilon(1.0_dp)*abs(t_end)
-         if (last) h = t_end - t
-         if (h < options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
+         h_natural = h
+         last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
+         if (last) h = t_target - t
+         if (h < self%options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
             write (text, '("integrate: step size ", es13.6e3, " below the minimum step or the roundoff of t = ", &
                &es13.6e3)') h, t
             call set_status(stat, status_step_underflow, trim(text))
@@ -148,29 +305,41 @@ contains
          attempts = attempts + 1
          newton_before = scheme%counters%newton_iterations
          err = nan
-         call stepper%attempt(problem, scheme, options, t, h, u, outcome, err, h_next, step_stat)
+         call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
 
          select case (outcome)
          case (attempt_accepted)
             failures = 0
             if (t + h > trouble_end) troubles = 0
-            call record_attempt(err, outcome, newton_before, stepper%u_new)
-            stats%accepted_steps = stats%accepted_steps + 1
-            stats%h_min_accepted = min(stats%h_min_accepted, h)
-            stats%h_max_accepted = max(stats%h_max_accepted, h)
-            if (present(t_out)) call emit_outputs()
-            u = stepper%u_new
-            if (last) then
-               t = t_end
-            else
-               t = t + h
+            call record_attempt(err, outcome, newton_before, self%stepper%u_new)
+            call_stats%accepted_steps = call_stats%accepted_steps + 1
+            call_stats%h_min_accepted = min(call_stats%h_min_accepted, h)
+            call_stats%h_max_accepted = max(call_stats%h_max_accepted, h)
+            stop_here = .false.
+            if (need_step) then
+               call accept_into_step(merge(t_target, t + h, last))
+               if (stat%code /= status_ok) exit
             end if
-            stats%t_reached = t
+            if (stop_here) then
+               t = self%step%t_end
+               u = self%step%u_end
+            else
+               u = self%stepper%u_new
+               if (last) then
+                  t = t_target
+               else
+                  t = t + h
+               end if
+            end if
+            call_stats%t_reached = t
             h = h_next
+            ! a step cut to land on the target does not shrink the next call's first step
+            if (last) h = min(max(h_next, h_natural), self%options%h_max)
+            if (stop_here) exit
          case (attempt_rejected_error)
             failures = 0
             call record_attempt(err, outcome, newton_before, u)
-            stats%rejected_error = stats%rejected_error + 1
+            call_stats%rejected_error = call_stats%rejected_error + 1
             h = h_next
          case default
             ! failed attempt: retry from the same state with a smaller step
@@ -178,23 +347,23 @@ contains
             select case (outcome)
             case (attempt_failed_nonfinite, attempt_failed_evaluation)
                if (outcome == attempt_failed_nonfinite) then
-                  stats%rejected_nonfinite = stats%rejected_nonfinite + 1
+                  call_stats%rejected_nonfinite = call_stats%rejected_nonfinite + 1
                else
-                  stats%rejected_evaluation = stats%rejected_evaluation + 1
+                  call_stats%rejected_evaluation = call_stats%rejected_evaluation + 1
                end if
                if (troubles == 0) trouble_end = t + h
                troubles = troubles + 1
             case default
-               stats%rejected_newton = stats%rejected_newton + 1
+               call_stats%rejected_newton = call_stats%rejected_newton + 1
             end select
             call record_attempt(nan, outcome, newton_before, u)
-            if (failures >= options%max_failures) then
+            if (failures >= self%options%max_failures) then
                write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", es13.6e3, &
                   &", last: ", a)') failures, t, trim(status_description(step_stat%code))
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
-            if (troubles >= options%max_failures) then
+            if (troubles >= self%options%max_failures) then
                write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", es13.6e3, &
                   &" (stopped at t = ", es13.6e3, ")")') trim(status_description(step_stat%code)), troubles, &
                   trouble_end, t
@@ -210,43 +379,51 @@ contains
             end if
          end if
       end do
+      self%t = t
+      self%h = h
       call finish()
 
    contains
 
-      !> Validate sizes, times, the initial state and the options.
-      subroutine check_arguments()
-         if (n < 1) then
-            call set_status(stat, status_size_mismatch, "integrate: the state is empty")
+      !> The call's own checks: init done, the same scheme and size, a target ahead,
+      !> a finite state, output times inside the interval.
+      subroutine check_call()
+         if (.not. self%ready) then
+            call set_status(stat, status_invalid_argument, "integrate: the integrator is not initialized")
             return
          end if
-         if (.not. (ieee_is_finite(t0) .and. ieee_is_finite(t_end))) then
-            call set_status(stat, status_invalid_argument, "integrate: t0 and t_end must be finite")
+         if (size(u) /= self%n) then
+            call set_status(stat, status_size_mismatch, "integrate: the state has a different size than at init")
             return
          end if
-         if (.not. (t_end > t0)) then
-            call set_status(stat, status_invalid_argument, "integrate: t_end must be greater than t0 "// &
-               "(backward integration is not supported: substitute s = -t)")
+         if (scheme%name /= self%scheme_name) then
+            call set_status(stat, status_invalid_argument, "integrate: pass the scheme init prepared")
+            return
+         end if
+         if (.not. (ieee_is_finite(t_target) .and. t_target >= t)) then
+            call set_status(stat, status_invalid_argument, "integrate: the target time must be finite and not "// &
+               "before the current time (backward integration is not supported: substitute s = -t)")
             return
          end if
          if (.not. all(ieee_is_finite(u))) then
-            call set_status(stat, status_nonfinite, "integrate: the initial state contains NaN or Inf")
+            call set_status(stat, status_nonfinite, "integrate: the state contains NaN or Inf")
             return
          end if
-         call validate_options(options, n, stat)
-         if (stat%code /= status_ok) return
          if (present(t_out) .neqv. present(u_out)) then
             call set_status(stat, status_invalid_argument, "integrate: t_out and u_out go together")
             return
          end if
          if (present(t_out)) then
-            if (size(u_out, 1) /= n .or. size(u_out, 2) /= size(t_out)) then
+            if (size(u_out, 1) /= self%n .or. size(u_out, 2) /= size(t_out)) then
                call set_status(stat, status_size_mismatch, "integrate: u_out must be size(u) x size(t_out)")
                return
             end if
             if (size(t_out) > 0) then
-               if (t_out(1) < t0 .or. t_out(size(t_out)) > t_end .or. &
-                  any(t_out(2:) < t_out(:size(t_out) - 1)) .or. any(.not. ieee_is_finite(t_out))) then
+               if (.not. all(ieee_is_finite(t_out))) then
+                  call set_status(stat, status_invalid_argument, "integrate: t_out must be finite")
+                  return
+               end if
+               if (t_out(1) < t .or. t_out(size(t_out)) > t_target .or. any(t_out(2:) < t_out(:size(t_out) - 1))) then
                   call set_status(stat, status_invalid_argument, &
                      "integrate: t_out must be ascending and inside [t0, t_end]")
                   return
@@ -254,30 +431,52 @@ contains
             end if
             u_out = nan
          end if
-      end subroutine check_arguments
+      end subroutine check_call
 
-      !> h0 = 0.01 |U0|_w / |F(U0)|_w (1e-6 when either is tiny), at most t_end - t0;
-      !> F(U0) is in stepper%delta.
-      real(dp) function initial_step()
-         real(dp) :: size_u, size_f
-         call stepper%set_weights(options, u, u)
-         size_u = stepper%weighted_norm(options, u)
-         size_f = stepper%weighted_norm(options, stepper%delta)
-         if (size_u < 1.0e-5_dp .or. size_f < 1.0e-5_dp .or. .not. ieee_is_finite(size_f)) then
-            initial_step = 1.0e-6_dp
-         else
-            initial_step = 0.01_dp*size_u/size_f
-         end if
-         initial_step = max(min(initial_step, t_end - t0), options%h_min)
-      end function initial_step
+      !> The accepted step [t, t_end_of_step] into self%step (F at its end included),
+      !> then events (a terminal crossing shortens it), dense output and the observer.
+      subroutine accept_into_step(t_end_of_step)
+         real(dp), intent(in) :: t_end_of_step
+         logical :: stop_requested
+         associate (step => self%step)
+            step%t_start = t
+            step%h = h
+            step%t_end = t_end_of_step
+            step%u_start = u
+            step%u_end = self%stepper%u_new
+            step%rhs_start = step%rhs_end
+            call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, self%scratch, scheme%counters)
+            if (present(events)) then
+               call events%check_step(step, stop_here, t_stop, self%stepper%delta, stat)
+               if (stat%code /= status_ok) return
+               if (stop_here) then
+                  step%t_end = t_stop
+                  step%u_end = self%stepper%delta
+               end if
+            end if
+            if (present(t_out)) call emit_outputs_up_to(step%t_end)
+            if (present(observer)) then
+               stop_requested = .false.
+               call observer%observe(step, stop_requested)
+               stop_here = stop_here .or. stop_requested
+            end if
+         end associate
+      end subroutine accept_into_step
 
-      !> Dense output inside the accepted step [t, t + h] (t_end on the last step).
-      subroutine emit_outputs()
-         real(dp) :: t_b
-         t_b = merge(t_end, t + h, last)
-         call evaluate_rhs(problem, t_b, stepper%u_new, output%rhs_end, scratch, scheme%counters)
-         call output%emit(t, h, t_b, u, stepper%u_new, t_out, u_out)
-      end subroutine emit_outputs
+      !> Fill the output times up to t_upto: at the start of the call the current state,
+      !> afterwards from the interpolant of the step just accepted.
+      subroutine emit_outputs_up_to(t_upto)
+         real(dp), intent(in) :: t_upto
+         do while (next_output <= size(t_out))
+            if (t_out(next_output) > t_upto) exit
+            if (t_out(next_output) <= self%t .and. call_stats%accepted_steps == 0) then
+               u_out(:, next_output) = u
+            else
+               call self%step%interpolate(t_out(next_output), u_out(:, next_output))
+            end if
+            next_output = next_output + 1
+         end do
+      end subroutine emit_outputs_up_to
 
       !> Append the attempt to the history, when one is kept (with the state after it:
       !> the new state of an accepted step, else the unchanged one).
@@ -291,23 +490,57 @@ contains
             int(scheme%counters%newton_iterations - newton_start), state)
       end subroutine record_attempt
 
-      !> Work counters and times of this call.
+      !> Work counters and times of this call; the running totals.
       subroutine finish()
-         stats%work%f_evaluations = scheme%counters%f_evaluations - work_before%f_evaluations
-         stats%work%g_evaluations = scheme%counters%g_evaluations - work_before%g_evaluations
-         stats%work%jac_f_evaluations = scheme%counters%jac_f_evaluations - work_before%jac_f_evaluations
-         stats%work%jac_g_evaluations = scheme%counters%jac_g_evaluations - work_before%jac_g_evaluations
-         stats%work%lu_factorizations = scheme%counters%lu_factorizations - work_before%lu_factorizations
-         stats%work%linear_solves = scheme%counters%linear_solves - work_before%linear_solves
-         stats%work%newton_iterations = scheme%counters%newton_iterations - work_before%newton_iterations
-         if (stats%accepted_steps == 0) stats%h_min_accepted = 0.0_dp
-         stats%weights_raised = stepper%weights_raised
+         call add_work(call_stats, scheme%counters, work_before)
+         if (call_stats%accepted_steps == 0) call_stats%h_min_accepted = 0.0_dp
+         call_stats%weights_raised = self%stepper%weights_raised
          call cpu_time(cpu_end)
          call system_clock(clock_end)
-         stats%cpu_seconds = cpu_end - cpu_start
-         stats%wall_seconds = real(clock_end - clock_start, dp)/real(max(clock_rate, 1_i8), dp)
+         call_stats%cpu_seconds = cpu_end - cpu_start
+         call_stats%wall_seconds = real(clock_end - clock_start, dp)/real(max(clock_rate, 1_i8), dp)
+         call accumulate(self%total, call_stats)
+         if (present(stats)) stats = call_stats
       end subroutine finish
 
-   end subroutine integrate
+   end subroutine advance_to
+
+   !> stats%work += counters - before.
+   pure subroutine add_work(stats, counters, before)
+      type(integration_stats_type), intent(inout) :: stats
+      type(counters_type), intent(in) :: counters, before
+      stats%work%f_evaluations = stats%work%f_evaluations + counters%f_evaluations - before%f_evaluations
+      stats%work%g_evaluations = stats%work%g_evaluations + counters%g_evaluations - before%g_evaluations
+      stats%work%jac_f_evaluations = stats%work%jac_f_evaluations + counters%jac_f_evaluations - &
+         before%jac_f_evaluations
+      stats%work%jac_g_evaluations = stats%work%jac_g_evaluations + counters%jac_g_evaluations - &
+         before%jac_g_evaluations
+      stats%work%lu_factorizations = stats%work%lu_factorizations + counters%lu_factorizations - &
+         before%lu_factorizations
+      stats%work%linear_solves = stats%work%linear_solves + counters%linear_solves - before%linear_solves
+      stats%work%newton_iterations = stats%work%newton_iterations + counters%newton_iterations - &
+         before%newton_iterations
+   end subroutine add_work
+
+   !> Running totals: total += one call.
+   pure subroutine accumulate(total, call_stats)
+      type(integration_stats_type), intent(inout) :: total
+      type(integration_stats_type), intent(in) :: call_stats
+      type(counters_type) :: none
+      total%t_reached = call_stats%t_reached
+      total%accepted_steps = total%accepted_steps + call_stats%accepted_steps
+      total%rejected_error = total%rejected_error + call_stats%rejected_error
+      total%rejected_newton = total%rejected_newton + call_stats%rejected_newton
+      total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
+      total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation
+      call add_work(total, call_stats%work, none)
+      if (call_stats%accepted_steps > 0) then
+         total%h_min_accepted = min(total%h_min_accepted, call_stats%h_min_accepted)
+         total%h_max_accepted = max(total%h_max_accepted, call_stats%h_max_accepted)
+      end if
+      total%weights_raised = total%weights_raised .or. call_stats%weights_raised
+      total%cpu_seconds = total%cpu_seconds + call_stats%cpu_seconds
+      total%wall_seconds = total%wall_seconds + call_stats%wall_seconds
+   end subroutine accumulate
 
 end module taylorode_integrate_integrator

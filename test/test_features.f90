@@ -1,0 +1,300 @@
+!> What codes that call the integrator many times expect: continuation over many
+!> short intervals, an observer after every step, events located on the dense output.
+module test_features
+   use testdrive, only: new_unittest, unittest_type, error_type, check
+   use test_support, only: stat_message
+   use taylorode, only: dp, i8, ode_problem, scheme_type, new_scheme, integrate, integrator_type, status_type, &
+      integrator_options_type, integration_stats_type, paper_options, status_ok, status_invalid_argument, &
+      accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, robertson_type, new_robertson
+   use taylorode_base_strings, only: format_real, format_integer
+   implicit none
+   private
+
+   public :: collect_features
+
+   !> Gravity for the bouncing ball
+   real(dp), parameter :: gravity = 9.81_dp
+
+   !> A ball falling under gravity: y' = v, v' = -g (all in f, nothing stiff)
+   type, extends(ode_problem) :: ball_type
+   contains
+      procedure :: f => ball_f
+      procedure :: g => ball_g
+      procedure :: jac_f => ball_jac_f
+      procedure :: jac_g => ball_jac_g
+   end type ball_type
+
+   !> The ball reaching the ground while falling (terminal)
+   type, extends(event_functions_type) :: ground_type
+   contains
+      procedure :: evaluate => ground_height
+   end type ground_type
+
+   !> Robertson's y1 crossing 0.8 (falling), and y3 crossing 0.5 (rising, not on [0, 40])
+   type, extends(event_functions_type) :: threshold_type
+   contains
+      procedure :: evaluate => thresholds
+   end type threshold_type
+
+   !> Counts the steps, checks the interpolant and stops after t_stop
+   type, extends(step_observer_type) :: watcher_type
+      integer :: calls = 0
+      real(dp) :: t_stop = huge(1.0_dp), last_end = 0.0_dp, worst_gap = 0.0_dp
+   contains
+      procedure :: observe => watch
+   end type watcher_type
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_features(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("continuation-short-calls", test_continuation), &
+         new_unittest("continuation-checks", test_continuation_checks), &
+         new_unittest("observer", test_observer), &
+         new_unittest("events-bouncing-ball", test_bouncing_ball), &
+         new_unittest("events-robertson-threshold", test_robertson_threshold) &
+         ]
+   end subroutine collect_features
+
+   !> 1,000 calls of 3 time units cost about what one call over [0, 3000] costs: the
+   !> step size, the controller's memory and the Newton matrices are kept. Each call
+   !> adds at most its one step cut to land on the target (and that step and the next
+   !> may need fresh factors), so steps and evaluations stay within 2 and 5 percent
+   !> and factorizations within 3 per call; the answer agrees.
+   subroutine test_continuation(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_type) :: integrator
+      type(integration_stats_type) :: long_stats
+      type(status_type) :: stat
+      real(dp) :: u_long(2), u_short(2)
+      integer :: k
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      u_long = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u_long, paper_options(), long_stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+
+      call new_scheme("i-t-2", scheme, stat)
+      u_short = problem%u0
+      call integrator%init(problem, scheme, 0.0_dp, u_short, paper_options(), stat)
+      do k = 1, 1000
+         call integrator%advance_to(problem, scheme, 3.0_dp*k, u_short, stat)
+         if (stat%code /= status_ok) exit
+      end do
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, integrator%t, 3000.0_dp, "reached t")
+      if (allocated(error)) return
+      call check(error, real(integrator%total%accepted_steps, dp) <= 1.02_dp*real(long_stats%accepted_steps, dp), &
+         "1,000 calls took "//format_integer(int(integrator%total%accepted_steps))//" steps, one call "// &
+         format_integer(int(long_stats%accepted_steps)))
+      if (allocated(error)) return
+      call check(error, real(integrator%total%work%f_evaluations + integrator%total%work%jac_f_evaluations, dp) <= &
+         1.05_dp*real(long_stats%work%f_evaluations + long_stats%work%jac_f_evaluations, dp), "evaluations")
+      if (allocated(error)) return
+      call check(error, integrator%total%work%lu_factorizations <= long_stats%work%lu_factorizations + 3000, &
+         "factorizations: "// &
+         format_integer(int(integrator%total%work%lu_factorizations))//" against "// &
+         format_integer(int(long_stats%work%lu_factorizations)))
+      if (allocated(error)) return
+      ! both runs carry the tolerance's error (5e-5 here); they agree well within it
+      call check(error, maxval(abs(u_short - u_long)) < 1.0e-4_dp, "states differ by "// &
+         format_real(maxval(abs(u_short - u_long)), 3))
+   end subroutine test_continuation
+
+   !> advance_to refuses what it cannot continue: no init, another scheme, a target
+   !> behind the current time.
+   subroutine test_continuation_checks(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme, other
+      type(integrator_type) :: integrator
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      u = problem%u0
+      call integrator%advance_to(problem, scheme, 1.0_dp, u, stat)
+      call check(error, stat%code, status_invalid_argument, "advance_to before init")
+      if (allocated(error)) return
+      call integrator%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+      call integrator%advance_to(problem, scheme, 1.0_dp, u, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call new_scheme("si-t-2", other, stat)
+      call integrator%advance_to(problem, other, 2.0_dp, u, stat)
+      call check(error, stat%code, status_invalid_argument, "another scheme")
+      if (allocated(error)) return
+      call integrator%advance_to(problem, scheme, 0.5_dp, u, stat)
+      call check(error, stat%code, status_invalid_argument, "a target behind")
+   end subroutine test_continuation_checks
+
+   !> The observer sees every accepted step once, in order; its interpolant agrees with
+   !> dense output; asking to stop ends the integration at that step with status ok.
+   subroutine test_observer(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(watcher_type) :: watcher
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("si-t-2", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, integrator_options_type(), stats, stat, observer=watcher)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, int(stats%accepted_steps), watcher%calls, "one call per accepted step")
+      if (allocated(error)) return
+      call check(error, watcher%worst_gap == 0.0_dp, "the steps the observer sees must join up")
+      if (allocated(error)) return
+      watcher = watcher_type(t_stop=1.0_dp)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, integrator_options_type(), stats, stat, observer=watcher)
+      call check(error, stat%code == status_ok .and. stats%t_reached >= 1.0_dp .and. stats%t_reached < 2.0_dp .and. &
+         stats%t_reached == watcher%last_end, "stop at the step after t = 1: "//format_real(stats%t_reached, 6))
+   end subroutine test_observer
+
+   !> A ball dropped from 10 m bounces with restitution 0.9: each ground contact is a
+   !> terminal event; the integration continues from it with the velocity reversed.
+   !> i-t-2 and the cubic Hermite interpolant are exact for this quadratic motion, so
+   !> the contact times match the analytic ones to the root finder's accuracy.
+   subroutine test_bouncing_ball(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(ball_type) :: ball
+      type(ground_type) :: ground
+      class(scheme_type), allocatable :: scheme
+      type(integrator_type) :: integrator
+      type(status_type) :: stat
+      real(dp) :: u(2), expected, speed
+      integer :: bounce
+      character(len=*), parameter :: names(2) = [character(len=6) :: "i-t-2", "ex-t-2"]
+      integer :: k
+
+      do k = 1, size(names)
+         ground = ground_type(count=1, direction=[event_falling], terminal=[.true.])
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = [10.0_dp, 0.0_dp]
+         call integrator%init(ball, scheme, 0.0_dp, u, integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp), stat)
+         expected = sqrt(2.0_dp*10.0_dp/gravity)
+         speed = gravity*expected
+         do bounce = 1, 4
+            call integrator%advance_to(ball, scheme, 20.0_dp, u, stat, events=ground)
+            call check(error, stat%code == status_ok .and. ground%stopped_by == 1 .and. ground%found == bounce, &
+               trim(names(k))//": bounce "//format_integer(bounce)//" not found: "//stat_message(stat))
+            if (allocated(error)) return
+            call check(error, abs(integrator%t - expected) <= 1.0e-9_dp*expected .and. abs(u(1)) <= 1.0e-8_dp, &
+               trim(names(k))//": bounce "//format_integer(bounce)//" at "//format_real(integrator%t, 12)// &
+               ", expected "//format_real(expected, 12))
+            if (allocated(error)) return
+            u(2) = -0.9_dp*u(2)
+            speed = 0.9_dp*speed
+            expected = expected + 2.0_dp*speed/gravity
+         end do
+      end do
+   end subroutine test_bouncing_ball
+
+   !> Robertson's y1 falls through 0.8 once on [0, 40] (a non-terminal event, located
+   !> with i-t-2 at rtol 1e-6 and with radau5 at 1e-10: they agree to 1e-3 relative);
+   !> y3 (0.28 at t = 40) never rises through 0.5, and a rising filter on y1 finds nothing.
+   subroutine test_robertson_threshold(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(robertson_type) :: problem
+      type(threshold_type) :: events, reference_events
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(3)
+
+      problem = new_robertson()
+      reference_events = threshold_type(count=2, direction=[event_falling, event_rising], terminal=[.false., .false.])
+      call new_scheme("radau5", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u, integrator_options_type(rtol=1.0e-10_dp, &
+         atol=1.0e-14_dp), stats, stat, events=reference_events)
+      call check(error, stat%code == status_ok .and. reference_events%found == 1, "radau5: one crossing expected")
+      if (allocated(error)) return
+      events = threshold_type(count=2, direction=[event_falling, event_rising], terminal=[.false., .false.])
+      call new_scheme("i-t-2", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u, integrator_options_type(rtol=1.0e-6_dp, &
+         atol=1.0e-10_dp), stats, stat, events=events)
+      call check(error, stat%code == status_ok .and. events%found == 1 .and. events%found_index(1) == 1, &
+         "i-t-2: one falling crossing of y1 expected")
+      if (allocated(error)) return
+      call check(error, abs(events%found_t(1) - reference_events%found_t(1)) <= 1.0e-3_dp*reference_events%found_t(1), &
+         "crossing at "//format_real(events%found_t(1), 8)//", radau5 "//format_real(reference_events%found_t(1), 8))
+      if (allocated(error)) return
+      call check(error, abs(events%found_u(1, 1) - 0.8_dp) < 1.0e-6_dp, "the state at the crossing")
+      if (allocated(error)) return
+      events = threshold_type(count=2, direction=[event_rising, event_rising], terminal=[.false., .false.])
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u, integrator_options_type(rtol=1.0e-6_dp, &
+         atol=1.0e-10_dp), stats, stat, events=events)
+      call check(error, stat%code == status_ok .and. events%found == 0, "a rising filter must find no crossing")
+   end subroutine test_robertson_threshold
+
+   subroutine watch(self, step, stop)
+      class(watcher_type), intent(inout) :: self
+      type(accepted_step_type), intent(in) :: step
+      logical, intent(inout) :: stop
+      real(dp) :: middle(size(step%u_start))
+      self%calls = self%calls + 1
+      self%worst_gap = max(self%worst_gap, abs(step%t_start - self%last_end))
+      self%last_end = step%t_end
+      call step%interpolate(step%t_start + 0.5_dp*step%h, middle)
+      if (step%t_end >= self%t_stop) stop = .true.
+   end subroutine watch
+
+   subroutine ground_height(self, t, u, values)
+      class(ground_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: values(:)
+      values(1) = u(1)
+   end subroutine ground_height
+
+   subroutine thresholds(self, t, u, values)
+      class(threshold_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: values(:)
+      values(1) = u(1) - 0.8_dp
+      values(2) = u(3) - 0.5_dp
+   end subroutine thresholds
+
+   subroutine ball_f(self, t, u, dudt)
+      class(ball_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = [u(2), -gravity]
+   end subroutine ball_f
+
+   subroutine ball_g(self, t, u, dudt)
+      class(ball_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine ball_g
+
+   subroutine ball_jac_f(self, t, u, jac)
+      class(ball_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = reshape([0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp], [2, 2])
+   end subroutine ball_jac_f
+
+   subroutine ball_jac_g(self, t, u, jac)
+      class(ball_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine ball_jac_g
+
+end module test_features
