@@ -8,12 +8,18 @@
 #   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
+#   make install         the library (release) into PREFIX (default build/install): modules and the
+#                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
 #
 # ARGS is passed to the program: make test ARGS="schemes", make run ARGS="vdp --help".
 # Each flag set builds in its own build/gfortran_<hash> directory.
 
 SHELL := /bin/bash
 FPM_VERSION := 0.12.0
+VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' fpm.toml)
+PREFIX ?= $(CURDIR)/build/install
+# The interface tests build their C, F77 and Python programs against this installation
+export TAYLORODE_PREFIX := $(CURDIR)/build/install
 
 # Without fpm $(FPM_VERSION) on PATH, use the one tools/setup.sh installs into .venv.
 ifneq ($(shell fpm --version 2>/dev/null | grep -cE 'Version: *$(FPM_VERSION)([^0-9.]|$$)'),1)
@@ -47,7 +53,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads build
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -58,20 +64,33 @@ setup:
 run: setup
 	@fpm run --profile release $(args)
 
-test: setup
+test: setup test-install
 	$(call fpm_test)
 
-test-checked: setup
+test-checked: setup test-install
 	$(call fpm_test,--profile debug --flag "$(CHECKED_FLAGS)")
 
 # gfortran 12 leaks the allocatable components of array-constructor temporaries (the
 # test suites' lists of tests): LeakSanitizer is off unless ASAN_OPTIONS says otherwise.
 test-sanitize: export ASAN_OPTIONS ?= detect_leaks=0
-test-sanitize: setup
+test-sanitize: setup test-install
 	$(call fpm_test,--profile debug --flag "$(SANITIZE_FLAGS)" --c-flag "$(SANITIZE_FLAGS)" --link-flag "$(SANITIZE_FLAGS)")
 
-test-threads: setup
+test-threads: setup test-install
 	$(call fpm_test,--profile debug --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)")
+
+# the installation the interface tests build against (quiet unless it fails)
+test-install:
+	@$(MAKE) --no-print-directory install PREFIX="$(TAYLORODE_PREFIX)" > build/install.log 2>&1 || \
+	  { cat build/install.log; echo "make: installing into $(TAYLORODE_PREFIX) failed" >&2; exit 1; }
+
+install: setup
+	fpm install --profile release --prefix "$(PREFIX)"
+	install -m 644 include/taylorode.h "$(PREFIX)/include/"
+	gfortran -shared -o "$(PREFIX)/lib/libtaylorode.so" -Wl,--whole-archive "$(PREFIX)/lib/libtaylorode.a" \
+	  -Wl,--no-whole-archive -llapack -lblas
+	mkdir -p "$(PREFIX)/lib/pkgconfig"
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' tools/taylorode.pc.in > "$(PREFIX)/lib/pkgconfig/taylorode.pc"
 
 build: setup
 	fpm build

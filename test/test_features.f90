@@ -5,7 +5,8 @@ module test_features
    use test_support, only: stat_message
    use taylorode, only: dp, i8, ode_problem, scheme_type, new_scheme, integrate, integrator_type, status_type, &
       integrator_options_type, integration_stats_type, paper_options, status_ok, status_invalid_argument, &
-      accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling
+      status_size_mismatch, accepted_step_type, step_observer_type, event_functions_type, event_rising, &
+      event_falling, error_weight_type
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, robertson_type, new_robertson
    use taylorode_base_strings, only: format_real, format_integer
    implicit none
@@ -37,6 +38,13 @@ module test_features
       procedure :: evaluate => thresholds
    end type threshold_type
 
+   !> The standard weights atol + rtol max(|u_old|, |u_new|), written as a user would
+   type, extends(error_weight_type) :: standard_weights_type
+      real(dp) :: rtol = 1.0e-6_dp, atol = 1.0e-10_dp
+   contains
+      procedure :: weights => standard_weights
+   end type standard_weights_type
+
    !> Counts the steps, checks the interpolant and stops after t_stop
    type, extends(step_observer_type) :: watcher_type
       integer :: calls = 0
@@ -55,7 +63,9 @@ contains
          new_unittest("continuation-checks", test_continuation_checks), &
          new_unittest("observer", test_observer), &
          new_unittest("events-bouncing-ball", test_bouncing_ball), &
-         new_unittest("events-robertson-threshold", test_robertson_threshold) &
+         new_unittest("events-robertson-threshold", test_robertson_threshold), &
+         new_unittest("tolerance-per-component", test_tolerance_per_component), &
+         new_unittest("error-weights-of-your-own", test_error_weights) &
          ]
    end subroutine collect_features
 
@@ -241,6 +251,66 @@ contains
          atol=1.0e-10_dp), stats, stat, events=events)
       call check(error, stat%code == status_ok .and. events%found == 0, "a rising filter must find no crossing")
    end subroutine test_robertson_threshold
+
+   !> rtol_vector: equal entries reproduce the scalar rtol exactly; a looser tolerance on
+   !> the components that are hard to resolve (y2 of Robertson) takes fewer steps; a
+   !> wrong size is an error.
+   subroutine test_tolerance_per_component(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(robertson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: scalar_stats, vector_stats
+      type(status_type) :: stat
+      real(dp) :: u_scalar(3), u_vector(3)
+      problem = new_robertson()
+      call new_scheme("i-t-2", scheme, stat)
+      u_scalar = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_scalar, integrator_options_type(rtol=1.0e-6_dp, &
+         atol=1.0e-10_dp), scalar_stats, stat)
+      u_vector = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_vector, integrator_options_type(rtol_vector=[1.0e-6_dp, &
+         1.0e-6_dp, 1.0e-6_dp], atol=1.0e-10_dp), vector_stats, stat)
+      call check(error, stat%code == status_ok .and. all(u_vector == u_scalar) .and. &
+         vector_stats%accepted_steps == scalar_stats%accepted_steps, "equal entries must reproduce the scalar run")
+      if (allocated(error)) return
+      u_vector = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_vector, integrator_options_type(rtol_vector=[1.0e-6_dp, &
+         1.0e-2_dp, 1.0e-6_dp], atol_vector=[1.0e-10_dp, 1.0e-4_dp, 1.0e-10_dp]), vector_stats, stat)
+      call check(error, stat%code == status_ok .and. vector_stats%accepted_steps < scalar_stats%accepted_steps, &
+         "a looser tolerance on y2 must take fewer steps")
+      if (allocated(error)) return
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_vector, integrator_options_type(rtol_vector=[1.0e-6_dp]), &
+         vector_stats, stat)
+      call check(error, stat%code, status_size_mismatch, "rtol_vector of the wrong size")
+   end subroutine test_tolerance_per_component
+
+   !> Weights of your own that equal the standard ones reproduce the standard run exactly.
+   subroutine test_error_weights(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(robertson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: standard_stats, own_stats
+      type(status_type) :: stat
+      real(dp) :: u_standard(3), u_own(3)
+      problem = new_robertson()
+      call new_scheme("si-t-2", scheme, stat)
+      u_standard = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_standard, integrator_options_type(rtol=1.0e-6_dp, &
+         atol=1.0e-10_dp), standard_stats, stat)
+      options%error_weights = standard_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
+      u_own = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_own, options, own_stats, stat)
+      call check(error, stat%code == status_ok .and. all(u_own == u_standard) .and. &
+         own_stats%accepted_steps == standard_stats%accepted_steps, "own weights must reproduce the standard run")
+   end subroutine test_error_weights
+
+   subroutine standard_weights(self, u_old, u_new, w)
+      class(standard_weights_type), intent(in) :: self
+      real(dp), intent(in) :: u_old(:), u_new(:)
+      real(dp), intent(out) :: w(:)
+      w = self%atol + self%rtol*max(abs(u_old), abs(u_new))
+   end subroutine standard_weights
 
    subroutine watch(self, step, stop)
       class(watcher_type), intent(inout) :: self

@@ -19,6 +19,7 @@ declare -A may_use=(
   [integrate]="base linalg problem newton schemes"
   [testset]="base linalg problem"
   [analysis]="base linalg problem newton schemes integrate testset"
+  [interfaces]="base linalg problem newton schemes integrate"
   [facade]="base linalg problem schemes integrate"
   [facade_testset]="testset"
   [facade_analysis]="analysis"

@@ -3,7 +3,7 @@
 # dev-dependency is usable. Idempotent: when nothing is missing it prints nothing
 # and takes a fraction of a second. It prints one line per thing it installs or
 # repairs; a failure stops it with a message starting "setup: ERROR".
-#   gfortran, LAPACK, BLAS, git : Debian packages (apt-get, as root or through sudo)
+#   gfortran, LAPACK, BLAS, git, pkg-config, gcc : Debian packages (apt-get, as root or sudo)
 #   fpm 0.12.0                  : the one on PATH if it is 0.12.0, otherwise PyPI's,
 #                                 installed into the project's virtual environment
 #                                 .venv (the Makefile puts .venv/bin first on PATH)
@@ -64,6 +64,9 @@ command -v gfortran >/dev/null 2>&1 || packages+=(gfortran)
 have_lib lapack || packages+=(liblapack-dev)
 have_lib blas || packages+=(libblas-dev)
 command -v git >/dev/null 2>&1 || packages+=(git)
+# the C, F77 and Python interface tests build against an installation through pkg-config
+command -v pkg-config >/dev/null 2>&1 || packages+=(pkg-config)
+command -v cc >/dev/null 2>&1 || packages+=(gcc)
 if [ "${#packages[@]}" -gt 0 ]; then apt_install "${packages[@]}"; fi
 
 # ---------------------------------------------------------------- fpm

@@ -357,6 +357,11 @@ contains
                call_stats%rejected_newton = call_stats%rejected_newton + 1
             end select
             call record_attempt(nan, outcome, newton_before, u)
+            if (problem%evaluation_fatal()) then
+               write (text, '("integrate: the problem stopped the integration at t = ", es13.6e3)') t
+               call set_status(stat, status_evaluation_failed, trim(text))
+               exit
+            end if
             if (failures >= self%options%max_failures) then
                write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", es13.6e3, &
                   &", last: ", a)') failures, t, trim(status_description(step_stat%code))

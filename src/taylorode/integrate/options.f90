@@ -8,7 +8,7 @@ module taylorode_integrate_options
    implicit none
    private
 
-   public :: integrator_options_type, paper_options, validate_options
+   public :: integrator_options_type, paper_options, validate_options, error_weight_type
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
 
    !> err = max_i |delta_i| / w_i (the paper's)
@@ -24,14 +24,40 @@ module taylorode_integrate_options
    !> Largest controller exponent q accepted
    real(dp), parameter :: max_q = 20.0_dp
 
-   !> Settings of `integrate`. Weights: w_i = atol_i + rtol * max(|U_i^n|, |U_i^{n+1}|).
+   !> Error weights of your own (as ARKODE's WFtolerances): extend it and write
+   !> `weights`; the integrator's error test and Newton tolerances then use them
+   type, abstract :: error_weight_type
+   contains
+      !> w_i > 0 for the step from u_old to u_new (the error test is |delta_i| <= w_i)
+      procedure(error_weight_interface), deferred :: weights
+   end type error_weight_type
+
+   abstract interface
+      !> Weights for the step from u_old to u_new; every w_i must be positive and finite.
+      subroutine error_weight_interface(self, u_old, u_new, w)
+         import :: error_weight_type, dp
+         !> The weight function (carries your data)
+         class(error_weight_type), intent(in) :: self
+         !> States at both ends of the step (equal before the step is taken)
+         real(dp), intent(in) :: u_old(:), u_new(:)
+         !> The weights
+         real(dp), intent(out) :: w(:)
+      end subroutine error_weight_interface
+   end interface
+
+   !> Settings of `integrate`. Weights: w_i = atol_i + rtol_i * max(|U_i^n|, |U_i^{n+1}|)
+   !> (or your own `error_weights`).
    type :: integrator_options_type
       !> Relative tolerance (>= 0)
       real(dp) :: rtol = 1.0e-6_dp
       !> Absolute tolerance for every component (>= 0; rtol and atol not both 0)
       real(dp) :: atol = 1.0e-6_dp
+      !> Relative tolerance per component (RADAU5's ITOL = 1); when allocated it replaces `rtol`
+      real(dp), allocatable :: rtol_vector(:)
       !> Absolute tolerance per component; when allocated it replaces `atol`
       real(dp), allocatable :: atol_vector(:)
+      !> Weights of your own; when allocated they replace rtol and atol
+      class(error_weight_type), allocatable :: error_weights
       !> norm_max or norm_rms
       integer :: norm = norm_max
       !> controller_i, controller_pi or controller_pid
@@ -105,6 +131,15 @@ contains
       if (.not. finite_at_least(options%rtol, 0.0_dp)) then
          call invalid("rtol must be finite and >= 0"); return
       end if
+      if (allocated(options%rtol_vector)) then
+         if (size(options%rtol_vector) /= n) then
+            call set_status(stat, status_size_mismatch, "options: rtol_vector must have one entry per unknown")
+            return
+         end if
+         if (.not. all(finite_at_least(options%rtol_vector, 0.0_dp))) then
+            call invalid("every rtol_vector entry must be finite and >= 0"); return
+         end if
+      end if
       if (allocated(options%atol_vector)) then
          if (size(options%atol_vector) /= n) then
             call set_status(stat, status_size_mismatch, "options: atol_vector must have one entry per unknown")
@@ -123,7 +158,7 @@ contains
          end if
          atol_zero = options%atol == 0.0_dp
       end if
-      if (atol_zero .and. options%rtol == 0.0_dp) then
+      if (tolerance_pair_zero(options, n) .and. .not. allocated(options%error_weights)) then
          call invalid("rtol and atol cannot both be zero (tolerances must be positive)"); return
       end if
       if (options%norm /= norm_max .and. options%norm /= norm_rms) then
@@ -187,6 +222,22 @@ contains
          call set_status(stat, status_invalid_argument, "options: "//message)
       end subroutine invalid
    end subroutine validate_options
+
+   !> Whether some component has both its relative and its absolute tolerance zero.
+   pure logical function tolerance_pair_zero(options, n)
+      type(integrator_options_type), intent(in) :: options
+      integer, intent(in) :: n
+      integer :: i
+      real(dp) :: rtol_i, atol_i
+      tolerance_pair_zero = .false.
+      do i = 1, n
+         rtol_i = options%rtol
+         if (allocated(options%rtol_vector)) rtol_i = options%rtol_vector(i)
+         atol_i = options%atol
+         if (allocated(options%atol_vector)) atol_i = options%atol_vector(i)
+         if (rtol_i == 0.0_dp .and. atol_i == 0.0_dp) tolerance_pair_zero = .true.
+      end do
+   end function tolerance_pair_zero
 
    !> x is finite and x >= low (false for NaN).
    elemental logical function finite_at_least(x, low)

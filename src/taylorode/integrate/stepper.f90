@@ -89,12 +89,16 @@ contains
       else
          self%zero_atol = options%atol == 0.0_dp
       end if
+      ! weights of your own may be zero anywhere: the same fallback guards them
+      self%zero_atol = self%zero_atol .or. allocated(options%error_weights)
       self%weights_raised = .false.
    end subroutine start
 
-   !> w_i = atol_i + rtol * max(|a_i|, |b_i|), at least roundoff_weight * max(|a_i|, |b_i|);
-   !> a zero weight (atol_i = 0 on a zero component) becomes rtol times the largest
-   !> |a_j|, |b_j| (at least rtol: a state of zeros is weighed as if of size 1).
+   !> w_i = atol_i + rtol_i * max(|a_i|, |b_i|) (or the options' own error weights), at
+   !> least roundoff_weight * max(|a_i|, |b_i|); a zero weight (atol_i = 0 on a zero
+   !> component) becomes rtol_i times the largest |a_j|, |b_j| (at least rtol_i: a state
+   !> of zeros is weighed as if of size 1). Weights of your own that are not positive
+   !> and finite are raised to that same floor.
    subroutine set_weights(self, options, a, b)
       !> The stepper
       class(stepper_type), intent(inout) :: self
@@ -102,13 +106,23 @@ contains
       type(integrator_options_type), intent(in) :: options
       !> The two states
       real(dp), intent(in) :: a(:), b(:)
-      real(dp) :: size_i, atol_i, scale
+      real(dp) :: size_i, atol_i, rtol_i, scale
       integer :: i
+      if (allocated(options%error_weights)) then
+         call options%error_weights%weights(a, b, self%weights)
+         do i = 1, size(a)
+            if (.not. ieee_is_finite(self%weights(i))) self%weights(i) = 0.0_dp
+         end do
+      end if
       atol_i = options%atol
+      rtol_i = options%rtol
       do i = 1, size(a)
-         if (allocated(options%atol_vector)) atol_i = options%atol_vector(i)
          size_i = max(abs(a(i)), abs(b(i)))
-         self%weights(i) = atol_i + options%rtol*size_i
+         if (.not. allocated(options%error_weights)) then
+            if (allocated(options%atol_vector)) atol_i = options%atol_vector(i)
+            if (allocated(options%rtol_vector)) rtol_i = options%rtol_vector(i)
+            self%weights(i) = atol_i + rtol_i*size_i
+         end if
          if (self%weights(i) < roundoff_weight*size_i) then
             self%weights(i) = roundoff_weight*size_i
             self%weights_raised = .true.
@@ -119,9 +133,11 @@ contains
       do i = 1, size(a)
          scale = max(scale, abs(a(i)), abs(b(i)))
       end do
-      scale = max(options%rtol, roundoff_weight)*max(scale, 1.0_dp)
       do i = 1, size(a)
-         if (self%weights(i) == 0.0_dp) self%weights(i) = scale
+         if (self%weights(i) > 0.0_dp) cycle
+         rtol_i = options%rtol
+         if (allocated(options%rtol_vector)) rtol_i = options%rtol_vector(i)
+         self%weights(i) = max(rtol_i, roundoff_weight)*max(scale, 1.0_dp)
       end do
    end subroutine set_weights
 

@@ -17,7 +17,7 @@ module taylorode_problem_ode
    implicit none
    private
 
-   public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface
+   public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
 
    !> Work arrays of the finite-difference Jacobians, kept between calls
    type :: difference_workspace_type
@@ -28,6 +28,8 @@ module taylorode_problem_ode
    type, abstract :: ode_problem
       !> Set by reject_evaluation, cleared by the integrator before each attempt
       logical, private :: rejected = .false.
+      !> Set by reject_evaluation(fatal=.true.): the integration stops at once
+      logical, private :: fatal = .false.
       !> Work arrays of the finite-difference Jacobians
       type(difference_workspace_type), private :: differences
    contains
@@ -57,6 +59,8 @@ module taylorode_problem_ode
       procedure, non_overridable :: reject_evaluation
       !> Whether an evaluation was rejected since the last clear_rejection
       procedure, non_overridable :: evaluation_rejected
+      !> Whether the rejection asked to stop the integration (no retry)
+      procedure, non_overridable :: evaluation_fatal
       !> Forget earlier rejections (the integrator does this before each attempt)
       procedure, non_overridable :: clear_rejection
    end type ode_problem
@@ -164,12 +168,24 @@ contains
    end subroutine bandwidths
 
    !> Say that f, g or a Jacobian cannot be evaluated at the point given (call it from
-   !> inside the evaluation and return any finite values).
-   subroutine reject_evaluation(self)
+   !> inside the evaluation and return any finite values): the step is retried with a
+   !> smaller step size; with fatal = .true. the integration stops at once instead
+   !> (status_evaluation_failed either way when it gives up).
+   subroutine reject_evaluation(self, fatal)
       !> The problem
       class(ode_problem), intent(inout) :: self
+      !> Stop the integration instead of retrying (default: retry)
+      logical, intent(in), optional :: fatal
       self%rejected = .true.
+      if (present(fatal)) self%fatal = self%fatal .or. fatal
    end subroutine reject_evaluation
+
+   !> Whether a rejection since the last clear_rejection asked to stop the integration.
+   pure logical function evaluation_fatal(self)
+      !> The problem
+      class(ode_problem), intent(in) :: self
+      evaluation_fatal = self%fatal
+   end function evaluation_fatal
 
    !> Whether an evaluation was rejected since the last clear_rejection.
    pure logical function evaluation_rejected(self)
@@ -183,6 +199,7 @@ contains
       !> The problem
       class(ode_problem), intent(inout) :: self
       self%rejected = .false.
+      self%fatal = .false.
    end subroutine clear_rejection
 
    !> df/dU in LAPACK band storage, band(upper + 1 + i - j, j) = df_i/du_j, by
@@ -197,7 +214,7 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
-      call band_forward_difference(self, .true., t, u, band)
+      call band_differences(self, .true., t, u, band)
    end subroutine jac_f_band
 
    !> dg/dU in LAPACK band storage (see jac_f_band).
@@ -210,7 +227,7 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
-      call band_forward_difference(self, .false., t, u, band)
+      call band_differences(self, .false., t, u, band)
    end subroutine jac_g_band
 
    !> Work arrays for n unknowns (allocated only when n changes).
@@ -228,11 +245,16 @@ contains
    !> j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The band
    !> is read from the storage it is given: size(band, 1) = lower + upper + 1 with
    !> upper from the checked structure.
-   subroutine band_forward_difference(self, of_f, t, u, band)
+   subroutine band_differences(self, of_f, t, u, band)
+      !> The problem
       class(ode_problem), intent(inout) :: self
+      !> Of f (true) or of g
       logical, intent(in) :: of_f
+      !> Time
       real(dp), intent(in) :: t
+      !> State
       real(dp), intent(in) :: u(:)
+      !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
       type(matrix_structure_type) :: structure
       type(status_type) :: stat
@@ -263,7 +285,7 @@ contains
             end do
          end do
       end associate
-   end subroutine band_forward_difference
+   end subroutine band_differences
 
    !> Forward-difference Jacobian of f.
    subroutine fd_jac_f(self, t, u, jac)
@@ -271,7 +293,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      call forward_difference(self, .true., t, u, jac)
+      call dense_differences(self, .true., t, u, jac)
    end subroutine fd_jac_f
 
    !> Forward-difference Jacobian of g.
@@ -280,16 +302,21 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      call forward_difference(self, .false., t, u, jac)
+      call dense_differences(self, .false., t, u, jac)
    end subroutine fd_jac_g
 
    !> Column-by-column forward differences of f (`of_f`) or g, with the
    !> increment sqrt(eps) * max(|u_j|, 1) that balances truncation and roundoff.
-   subroutine forward_difference(self, of_f, t, u, jac)
+   subroutine dense_differences(self, of_f, t, u, jac)
+      !> The problem
       class(ode_problem), intent(inout) :: self
+      !> Of f (true) or of g
       logical, intent(in) :: of_f
+      !> Time
       real(dp), intent(in) :: t
+      !> State
       real(dp), intent(in) :: u(:)
+      !> Jacobian, size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
       real(dp) :: increment
       integer :: j
@@ -307,7 +334,7 @@ contains
             probe(j) = u(j)
          end do
       end associate
-   end subroutine forward_difference
+   end subroutine dense_differences
 
    !> f(t, state) when `of_f`, else g(t, state).
    subroutine evaluate_part(problem, of_f, t, state, value)

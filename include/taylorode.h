@@ -1,0 +1,86 @@
+/* taylorode: one-step Taylor schemes for stiff ODEs U' = f(t, U) + g(t, U), from C.
+ *
+ *   int status;
+ *   taylorode_t *ode = taylorode_create("i-t-2", 2, &status);
+ *   taylorode_set_functions(ode, f, g, jac_f, jac_g, &params);   (NULL Jacobians: differences)
+ *   taylorode_set_tolerances(ode, 1e-6, 1e-6);
+ *   status = taylorode_integrate(ode, 0.0, 1.0, u);               (or taylorode_init + taylorode_advance_to)
+ *   if (status != TAYLORODE_OK) fprintf(stderr, "%s\n", taylorode_message(ode));
+ *   taylorode_free(ode);
+ *
+ * Every function returns a status code and never stops or prints. Callbacks return
+ * 0 on success, > 0 when they cannot evaluate at the point given (the step is
+ * retried with a smaller step) and < 0 to stop the integration. Arrays are of length
+ * n; dense Jacobians are column-major n x n (jac[i + n j] = d part_i / d u_j), band
+ * Jacobians (after taylorode_set_bandwidths) use LAPACK's layout
+ * jac[(upper + i - j) + (lower + upper + 1) j] for |i - j| within the band (0-based). */
+#ifndef TAYLORODE_H
+#define TAYLORODE_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes (the library's status_* constants) */
+enum {
+  TAYLORODE_OK = 0,
+  TAYLORODE_INVALID_ARGUMENT = 1,
+  TAYLORODE_SIZE_MISMATCH = 2,
+  TAYLORODE_NONFINITE = 3,
+  TAYLORODE_SINGULAR_MATRIX = 4,
+  TAYLORODE_NEWTON_DIVERGED = 5,
+  TAYLORODE_NEWTON_NOT_CONVERGED = 6,
+  TAYLORODE_STEP_UNDERFLOW = 7,
+  TAYLORODE_MAX_STEPS = 8,
+  TAYLORODE_UNKNOWN_SCHEME = 9,
+  TAYLORODE_EVALUATION_FAILED = 10,
+  TAYLORODE_OUTPUT_ERROR = 11
+};
+
+/* An integrator for one scheme and one problem size (opaque) */
+typedef struct taylorode_s taylorode_t;
+
+/* f or g: dudt = part(t, u) */
+typedef int (*taylorode_rhs_fn)(double t, const double *u, double *dudt, void *user_data);
+/* Jacobian of a part, dense or band storage */
+typedef int (*taylorode_jac_fn)(double t, const double *u, double *jac, void *user_data);
+
+/* What an integration did (since taylorode_init) */
+typedef struct {
+  long accepted_steps, rejected_steps, f_evaluations, g_evaluations, jacobian_evaluations, lu_factorizations,
+      linear_solves, newton_iterations;
+  double t_reached, h_next, cpu_seconds;
+} taylorode_stats_t;
+
+/* A handle for a scheme ("ex-t-1", "ex-t-2", "si-t-1", "si-t-2", "si-t-2-paper", "i-t-1", "i-t-2",
+   "imex-rk21", "radau5") and n unknowns; NULL with *status set on failure. */
+taylorode_t *taylorode_create(const char *scheme, int n, int *status);
+void taylorode_free(taylorode_t *ode);
+
+/* f (non-stiff) and g (stiff); NULL f or g is zero, NULL Jacobians come from differences */
+int taylorode_set_functions(taylorode_t *ode, taylorode_rhs_fn f, taylorode_rhs_fn g, taylorode_jac_fn jac_f,
+                            taylorode_jac_fn jac_g, void *user_data);
+/* Banded Jacobians: J(i, j) = 0 for i - j > lower or j - i > upper */
+int taylorode_set_bandwidths(taylorode_t *ode, int lower, int upper);
+int taylorode_set_tolerances(taylorode_t *ode, double rtol, double atol);
+int taylorode_set_tolerance_vectors(taylorode_t *ode, const double *rtol, const double *atol);
+/* Options by name: "h0", "h_min", "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction",
+   "max_steps", "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0/1),
+   "controller" (0: I, 1: PI, 2: PID), "norm" (0: max, 1: rms) */
+int taylorode_set_option(taylorode_t *ode, const char *name, double value);
+
+/* Start at (t0, u0); then continue call after call (u may be changed between calls) */
+int taylorode_init(taylorode_t *ode, double t0, const double *u0);
+int taylorode_advance_to(taylorode_t *ode, double t, double *u);
+/* From t0 to t_end in one call: u holds u(t0) on entry, u(t_end) (or the last good state) on exit */
+int taylorode_integrate(taylorode_t *ode, double t0, double t_end, double *u);
+
+int taylorode_get_stats(const taylorode_t *ode, taylorode_stats_t *stats);
+/* The message of the last failing call ("" after success), valid until the next call on ode */
+const char *taylorode_message(const taylorode_t *ode);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* TAYLORODE_H */

@@ -1,0 +1,455 @@
+!> The C interface (include/taylorode.h): an opaque integrator handle created for a
+!> scheme, tolerances and options set by name, C callbacks for f, g and their
+!> Jacobians with a user-data pointer, integration in one call or continued call by
+!> call, statistics and the last status message. Every function returns a status
+!> code (TAYLORODE_OK = 0, the library's status codes otherwise) and never stops or
+!> prints. Callbacks return 0 on success, > 0 when they cannot evaluate at the point
+!> given (the step is retried with a smaller step) and < 0 to stop the integration.
+module taylorode_interfaces_c
+   use, intrinsic :: iso_c_binding, only: c_int, c_long, c_double, c_char, c_ptr, c_funptr, c_null_ptr, &
+      c_null_funptr, c_null_char, c_loc, c_f_pointer, c_f_procpointer, c_associated
+   use taylorode_base_kinds, only: dp, i8
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_size_mismatch
+   use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
+   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
+   use taylorode_schemes_scheme, only: scheme_type
+   use taylorode_schemes_registry, only: new_scheme
+   use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid
+   use taylorode_integrate_options, only: integrator_options_type, norm_max, norm_rms
+   use taylorode_integrate_stats, only: integration_stats_type
+   use taylorode_integrate_integrator, only: integrator_type
+   implicit none
+   private
+
+   public :: taylorode_stats_c
+
+   !> What taylorode_get_stats fills (taylorode_stats_t in the header)
+   type, bind(c) :: taylorode_stats_c
+      integer(c_long) :: accepted_steps, rejected_steps, f_evaluations, g_evaluations, jacobian_evaluations, &
+         lu_factorizations, linear_solves, newton_iterations
+      real(c_double) :: t_reached, h_next, cpu_seconds
+   end type taylorode_stats_c
+
+   abstract interface
+      !> f or g: dudt = part(t, u); returns 0, > 0 (cannot evaluate here) or < 0 (stop)
+      integer(c_int) function c_rhs_interface(t, u, dudt, user_data) bind(c)
+         import :: c_int, c_double, c_ptr
+         real(c_double), value :: t
+         real(c_double), intent(in) :: u(*)
+         real(c_double), intent(out) :: dudt(*)
+         type(c_ptr), value :: user_data
+      end function c_rhs_interface
+      !> A Jacobian: column-major n x n, or band storage (lower + upper + 1) x n
+      integer(c_int) function c_jacobian_interface(t, u, jac, user_data) bind(c)
+         import :: c_int, c_double, c_ptr
+         real(c_double), value :: t
+         real(c_double), intent(in) :: u(*)
+         real(c_double), intent(out) :: jac(*)
+         type(c_ptr), value :: user_data
+      end function c_jacobian_interface
+   end interface
+
+   !> The C callbacks as an ode_problem
+   type, extends(ode_problem) :: c_problem_type
+      type(c_funptr) :: f_callback = c_null_funptr, g_callback = c_null_funptr, jac_f_callback = c_null_funptr, &
+         jac_g_callback = c_null_funptr
+      type(c_ptr) :: user_data = c_null_ptr
+      !> Bandwidths (lower < 0: dense)
+      integer :: lower = -1, upper = -1
+      !> Band Jacobian in contiguous storage for the callback
+      real(dp), allocatable :: band_work(:, :)
+   contains
+      procedure :: f => c_f
+      procedure :: g => c_g
+      procedure :: jac_f => c_jac_f
+      procedure :: jac_g => c_jac_g
+      procedure :: jacobian_structure => c_structure
+      procedure :: jac_f_band => c_jac_f_band
+      procedure :: jac_g_band => c_jac_g_band
+   end type c_problem_type
+
+   !> What a handle points to
+   type :: session_type
+      integer :: n = 0
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integrator_type) :: integrator
+      type(c_problem_type) :: problem
+      type(status_type) :: stat
+      logical :: started = .false.
+      !> The last message, NUL-terminated, for taylorode_message
+      character(kind=c_char) :: message(512) = c_null_char
+   end type session_type
+
+contains
+
+   !> The session behind a handle (null when the handle is null).
+   function session_of(handle) result(session)
+      type(c_ptr), intent(in) :: handle
+      type(session_type), pointer :: session
+      session => null()
+      if (c_associated(handle)) call c_f_pointer(handle, session)
+   end function session_of
+
+   !> A Fortran string from a NUL-terminated C string (at most 256 characters).
+   function from_c_string(text) result(value)
+      character(kind=c_char), intent(in) :: text(*)
+      character(len=:), allocatable :: value
+      integer :: k
+      do k = 1, 256
+         if (text(k) == c_null_char) exit
+      end do
+      allocate (character(len=k - 1) :: value)
+      value = transfer(text(1:k - 1), value)
+   end function from_c_string
+
+   !> Remember a status and its message; return its code.
+   integer(c_int) function remember(session, stat) result(code)
+      type(session_type), intent(inout) :: session
+      type(status_type), intent(in) :: stat
+      integer :: k, length
+      session%stat = stat
+      session%message = c_null_char
+      if (allocated(stat%message)) then
+         length = min(len(stat%message), size(session%message) - 1)
+         do k = 1, length
+            session%message(k) = stat%message(k:k)
+         end do
+      end if
+      code = int(stat%code, c_int)
+   end function remember
+
+   !> taylorode_create: a handle for `scheme` and n unknowns, or null (the status in *status).
+   function taylorode_create(scheme, n, status) result(handle) bind(c, name="taylorode_create")
+      character(kind=c_char), intent(in) :: scheme(*)
+      integer(c_int), value :: n
+      integer(c_int), intent(out) :: status
+      type(c_ptr) :: handle
+      type(session_type), pointer :: session
+      type(status_type) :: stat
+      handle = c_null_ptr
+      if (n < 1) then
+         status = status_size_mismatch
+         return
+      end if
+      allocate (session)
+      call new_scheme(from_c_string(scheme), session%scheme, stat)
+      status = int(stat%code, c_int)
+      if (stat%code /= status_ok) then
+         deallocate (session)
+         return
+      end if
+      session%n = n
+      handle = c_loc(session)
+   end function taylorode_create
+
+   !> taylorode_free: release a handle (null is fine).
+   subroutine taylorode_free(handle) bind(c, name="taylorode_free")
+      type(c_ptr), value :: handle
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      if (associated(session)) deallocate (session)
+   end subroutine taylorode_free
+
+   !> taylorode_set_functions: f and g (NULL: zero), their Jacobians (NULL: differences).
+   integer(c_int) function taylorode_set_functions(handle, f, g, jac_f, jac_g, user_data) result(code) &
+      bind(c, name="taylorode_set_functions")
+      type(c_ptr), value :: handle, user_data
+      type(c_funptr), value :: f, g, jac_f, jac_g
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      session%problem%f_callback = f
+      session%problem%g_callback = g
+      session%problem%jac_f_callback = jac_f
+      session%problem%jac_g_callback = jac_g
+      session%problem%user_data = user_data
+      code = status_ok
+   end function taylorode_set_functions
+
+   !> taylorode_set_bandwidths: banded Jacobians (the callbacks then fill band storage,
+   !> jac[(upper + i - j) + (lower + upper + 1) j] = d part_i / d u_j, 0-based).
+   integer(c_int) function taylorode_set_bandwidths(handle, lower, upper) result(code) &
+      bind(c, name="taylorode_set_bandwidths")
+      type(c_ptr), value :: handle
+      integer(c_int), value :: lower, upper
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      if (lower < 0 .or. upper < 0) return
+      session%problem%lower = lower
+      session%problem%upper = upper
+      if (allocated(session%problem%band_work)) deallocate (session%problem%band_work)
+      allocate (session%problem%band_work(lower + upper + 1, session%n))
+      code = status_ok
+   end function taylorode_set_bandwidths
+
+   !> taylorode_set_tolerances: scalar rtol and atol.
+   integer(c_int) function taylorode_set_tolerances(handle, rtol, atol) result(code) &
+      bind(c, name="taylorode_set_tolerances")
+      type(c_ptr), value :: handle
+      real(c_double), value :: rtol, atol
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      session%options%rtol = rtol
+      session%options%atol = atol
+      if (allocated(session%options%rtol_vector)) deallocate (session%options%rtol_vector)
+      if (allocated(session%options%atol_vector)) deallocate (session%options%atol_vector)
+      code = status_ok
+   end function taylorode_set_tolerances
+
+   !> taylorode_set_tolerance_vectors: rtol and atol per component (n each).
+   integer(c_int) function taylorode_set_tolerance_vectors(handle, rtol, atol) result(code) &
+      bind(c, name="taylorode_set_tolerance_vectors")
+      type(c_ptr), value :: handle
+      real(c_double), intent(in) :: rtol(*), atol(*)
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      session%options%rtol_vector = rtol(:session%n)
+      session%options%atol_vector = atol(:session%n)
+      code = status_ok
+   end function taylorode_set_tolerance_vectors
+
+   !> taylorode_set_option: a real or whole-number option by name ("h0", "h_min",
+   !> "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction", "max_steps",
+   !> "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0 or 1),
+   !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)). The integrator
+   !> checks the values when it starts.
+   integer(c_int) function taylorode_set_option(handle, name, value) result(code) &
+      bind(c, name="taylorode_set_option")
+      type(c_ptr), value :: handle
+      character(kind=c_char), intent(in) :: name(*)
+      real(c_double), value :: value
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      associate (options => session%options)
+         select case (from_c_string(name))
+         case ("h0"); options%h0 = value
+         case ("h_min"); options%h_min = value
+         case ("h_max"); options%h_max = value
+         case ("kappa"); options%kappa = value
+         case ("q"); options%q = value
+         case ("max_growth"); options%max_growth = value
+         case ("min_shrink"); options%min_shrink = value
+         case ("newton_fraction"); options%newton_fraction = value
+         case ("max_steps"); options%max_steps = int(value, i8)
+         case ("max_newton_iterations"); options%max_newton_iterations = int(value)
+         case ("max_failures"); options%max_failures = int(value)
+         case ("reuse_newton_matrix"); options%reuse_newton_matrix = value /= 0.0_dp
+         case ("controller")
+            select case (nint(value))
+            case (0); options%controller = controller_i
+            case (1); options%controller = controller_pi
+            case (2); options%controller = controller_pid
+            case default; return
+            end select
+         case ("norm")
+            select case (nint(value))
+            case (0); options%norm = norm_max
+            case (1); options%norm = norm_rms
+            case default; return
+            end select
+         case default
+            return
+         end select
+      end associate
+      code = status_ok
+   end function taylorode_set_option
+
+   !> taylorode_init: start at (t0, u0) with the current settings.
+   integer(c_int) function taylorode_init(handle, t0, u0) result(code) bind(c, name="taylorode_init")
+      type(c_ptr), value :: handle
+      real(c_double), value :: t0
+      real(c_double), intent(in) :: u0(*)
+      type(session_type), pointer :: session
+      type(status_type) :: stat
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      if (.not. c_associated(session%problem%g_callback) .and. .not. c_associated(session%problem%f_callback)) then
+         call set_status(stat, status_invalid_argument, "taylorode_init: set f or g first (taylorode_set_functions)")
+         code = remember(session, stat)
+         return
+      end if
+      call session%integrator%init(session%problem, session%scheme, t0, u0(:session%n), session%options, stat)
+      session%started = stat%code == status_ok
+      code = remember(session, stat)
+   end function taylorode_init
+
+   !> taylorode_advance_to: continue to t; u holds the state at the current time on
+   !> entry (it may have been changed) and at t on exit.
+   integer(c_int) function taylorode_advance_to(handle, t, u) result(code) bind(c, name="taylorode_advance_to")
+      type(c_ptr), value :: handle
+      real(c_double), value :: t
+      real(c_double), intent(inout) :: u(*)
+      type(session_type), pointer :: session
+      type(status_type) :: stat
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      call session%integrator%advance_to(session%problem, session%scheme, t, u(:session%n), stat)
+      code = remember(session, stat)
+   end function taylorode_advance_to
+
+   !> taylorode_integrate: from t0 to t_end in one call (init, then advance_to).
+   integer(c_int) function taylorode_integrate(handle, t0, t_end, u) result(code) bind(c, name="taylorode_integrate")
+      type(c_ptr), value :: handle
+      real(c_double), value :: t0, t_end
+      real(c_double), intent(inout) :: u(*)
+      code = taylorode_init(handle, t0, u)
+      if (code /= status_ok) return
+      code = taylorode_advance_to(handle, t_end, u)
+   end function taylorode_integrate
+
+   !> taylorode_get_stats: the statistics since taylorode_init.
+   integer(c_int) function taylorode_get_stats(handle, stats) result(code) bind(c, name="taylorode_get_stats")
+      type(c_ptr), value :: handle
+      type(taylorode_stats_c), intent(out) :: stats
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      associate (total => session%integrator%total)
+         stats%accepted_steps = int(total%accepted_steps, c_long)
+         stats%rejected_steps = int(total%rejected_steps(), c_long)
+         stats%f_evaluations = int(total%work%f_evaluations, c_long)
+         stats%g_evaluations = int(total%work%g_evaluations, c_long)
+         stats%jacobian_evaluations = int(total%work%jac_f_evaluations + total%work%jac_g_evaluations, c_long)
+         stats%lu_factorizations = int(total%work%lu_factorizations, c_long)
+         stats%linear_solves = int(total%work%linear_solves, c_long)
+         stats%newton_iterations = int(total%work%newton_iterations, c_long)
+         stats%t_reached = total%t_reached
+         stats%h_next = session%integrator%h
+         stats%cpu_seconds = total%cpu_seconds
+      end associate
+      code = status_ok
+   end function taylorode_get_stats
+
+   !> taylorode_message: the message of the last call that set a status ("" when it
+   !> succeeded), valid until the next call on the handle.
+   function taylorode_message(handle) result(text) bind(c, name="taylorode_message")
+      type(c_ptr), value :: handle
+      type(c_ptr) :: text
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      text = c_null_ptr
+      if (associated(session)) text = c_loc(session%message)
+   end function taylorode_message
+
+   !> Call a part's callback; a nonzero return rejects the evaluation (fatal when < 0).
+   subroutine call_part(self, callback, t, u, dudt)
+      type(c_problem_type), intent(inout) :: self
+      type(c_funptr), intent(in) :: callback
+      real(dp), intent(in) :: t
+      real(dp), intent(in), contiguous :: u(:)
+      real(dp), intent(out), contiguous :: dudt(:)
+      procedure(c_rhs_interface), pointer :: part
+      integer(c_int) :: returned
+      if (.not. c_associated(callback)) then
+         dudt = 0.0_dp
+         return
+      end if
+      call c_f_procpointer(callback, part)
+      returned = part(t, u, dudt, self%user_data)
+      if (returned /= 0) call self%reject_evaluation(fatal=returned < 0)
+   end subroutine call_part
+
+   !> Call a Jacobian callback into jac (contiguous); false when there is none.
+   logical function call_jacobian(self, callback, t, u, jac) result(called)
+      type(c_problem_type), intent(inout) :: self
+      type(c_funptr), intent(in) :: callback
+      real(dp), intent(in) :: t
+      real(dp), intent(in), contiguous :: u(:)
+      real(dp), intent(out), contiguous :: jac(:, :)
+      procedure(c_jacobian_interface), pointer :: jacobian
+      integer(c_int) :: returned
+      called = c_associated(callback)
+      if (.not. called) return
+      call c_f_procpointer(callback, jacobian)
+      returned = jacobian(t, u, jac, self%user_data)
+      if (returned /= 0) call self%reject_evaluation(fatal=returned < 0)
+   end function call_jacobian
+
+   subroutine c_f(self, t, u, dudt)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call call_part(self, self%f_callback, t, u, dudt)
+   end subroutine c_f
+
+   subroutine c_g(self, t, u, dudt)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call call_part(self, self%g_callback, t, u, dudt)
+   end subroutine c_g
+
+   subroutine c_jac_f(self, t, u, jac)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (.not. c_associated(self%f_callback)) then
+         jac = 0.0_dp
+      else if (.not. call_jacobian(self, self%jac_f_callback, t, u, jac)) then
+         call dense_differences(self, .true., t, u, jac)
+      end if
+   end subroutine c_jac_f
+
+   subroutine c_jac_g(self, t, u, jac)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (.not. c_associated(self%g_callback)) then
+         jac = 0.0_dp
+      else if (.not. call_jacobian(self, self%jac_g_callback, t, u, jac)) then
+         call dense_differences(self, .false., t, u, jac)
+      end if
+   end subroutine c_jac_g
+
+   function c_structure(self, n) result(structure)
+      class(c_problem_type), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      if (self%lower < 0) then
+         structure = dense_structure()
+      else
+         structure = band_structure(self%lower, self%upper)
+      end if
+   end function c_structure
+
+   subroutine c_jac_f_band(self, t, u, band)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      if (.not. c_associated(self%f_callback)) then
+         band = 0.0_dp
+      else if (call_jacobian(self, self%jac_f_callback, t, u, self%band_work)) then
+         band = self%band_work
+      else
+         call band_differences(self, .true., t, u, band)
+      end if
+   end subroutine c_jac_f_band
+
+   subroutine c_jac_g_band(self, t, u, band)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      if (.not. c_associated(self%g_callback)) then
+         band = 0.0_dp
+      else if (call_jacobian(self, self%jac_g_callback, t, u, self%band_work)) then
+         band = self%band_work
+      else
+         call band_differences(self, .false., t, u, band)
+      end if
+   end subroutine c_jac_g_band
+
+end module taylorode_interfaces_c

@@ -1,0 +1,218 @@
+!> The interfaces for the codes that use the library, exercised as their users would:
+!> the F77 program (built with pkg-config, the same as its RADAU5 version but for the
+!> CALL line), the C program (built by its plain Makefile) and the Python script
+!> (ctypes and numpy), each against an installed library. `make test` installs into
+!> build/install and says where through TAYLORODE_PREFIX; without it these tests are
+!> skipped with that message.
+module test_interfaces
+   use testdrive, only: new_unittest, unittest_type, error_type, check, skip_test
+   use test_support, only: scratch, run_type, run_command, read_lines, line_type, has_line, stat_message
+   use taylorode, only: dp, scheme_type, new_scheme, integrate, integrator_options_type, integration_stats_type, &
+      status_type, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
+      status_singular_matrix, status_newton_diverged, status_newton_not_converged, status_step_underflow, &
+      status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol
+   use taylorode_base_strings, only: format_real
+   implicit none
+   private
+
+   public :: collect_interfaces
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_interfaces(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("c-header-status-codes", test_header_codes), &
+         new_unittest("legacy-f77-robertson", test_legacy_robertson), &
+         new_unittest("c-van-der-pol", test_c_van_der_pol), &
+         new_unittest("python-van-der-pol", test_python_van_der_pol) &
+         ]
+   end subroutine collect_interfaces
+
+   !> The installed library (TAYLORODE_PREFIX), or "" when there is none.
+   function installation() result(prefix)
+      character(len=:), allocatable :: prefix
+      character(len=1024) :: value
+      integer :: length, status
+      logical :: found
+      call get_environment_variable("TAYLORODE_PREFIX", value, length, status)
+      prefix = ""
+      if (status /= 0 .or. length == 0) return
+      inquire (file=value(:length)//"/lib/libtaylorode.so", exist=found)
+      if (found) prefix = value(:length)
+   end function installation
+
+   !> Skip a test that needs the installation when there is none.
+   logical function missing_installation(error)
+      type(error_type), allocatable, intent(out) :: error
+      missing_installation = len(installation()) == 0
+      if (missing_installation) call skip_test(error, "needs an installed library: run `make test` (it installs "// &
+         "into build/install) or set TAYLORODE_PREFIX")
+   end function missing_installation
+
+   !> pkg-config's environment for the installation.
+   function pkg_config_environment() result(text)
+      character(len=:), allocatable :: text
+      text = "export PKG_CONFIG_PATH="//installation()//"/lib/pkgconfig; "
+   end function pkg_config_environment
+
+   !> The numbers after `label` on the first line of `lines` that contains it.
+   subroutine numbers_after(lines, label, values, found)
+      type(line_type), intent(in) :: lines(:)
+      character(len=*), intent(in) :: label
+      real(dp), intent(out) :: values(:)
+      logical, intent(out) :: found
+      integer :: k, at, io
+      found = .false.
+      do k = 1, size(lines)
+         at = index(lines(k)%text, label)
+         if (at == 0) cycle
+         read (lines(k)%text(at + len(label):), *, iostat=io) values
+         found = io == 0
+         return
+      end do
+   end subroutine numbers_after
+
+   !> Van der Pol mu = 10 over [0, 10] with i-t-2 at rtol = atol = 1e-8, the run every
+   !> interface example makes.
+   subroutine fortran_van_der_pol(u, stat)
+      real(dp), intent(out) :: u(2)
+      type(status_type), intent(out) :: stat
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      u = [2.0_dp, 0.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp), &
+         stats, stat)
+   end subroutine fortran_van_der_pol
+
+   !> The header's status codes are the library's.
+   subroutine test_header_codes(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(line_type), allocatable :: header(:)
+      character(len=*), parameter :: names(12) = [character(len=30) :: "TAYLORODE_OK", &
+         "TAYLORODE_INVALID_ARGUMENT", "TAYLORODE_SIZE_MISMATCH", "TAYLORODE_NONFINITE", &
+         "TAYLORODE_SINGULAR_MATRIX", "TAYLORODE_NEWTON_DIVERGED", "TAYLORODE_NEWTON_NOT_CONVERGED", &
+         "TAYLORODE_STEP_UNDERFLOW", "TAYLORODE_MAX_STEPS", "TAYLORODE_UNKNOWN_SCHEME", &
+         "TAYLORODE_EVALUATION_FAILED", "TAYLORODE_OUTPUT_ERROR"]
+      integer, parameter :: codes(12) = [status_ok, status_invalid_argument, status_size_mismatch, &
+         status_nonfinite, status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
+         status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error]
+      real(dp) :: value(1)
+      logical :: found
+      integer :: k
+      call read_lines("include/taylorode.h", header)
+      call check(error, size(header) > 0, "include/taylorode.h not found (run the tests from the project root)")
+      if (allocated(error)) return
+      do k = 1, size(names)
+         call numbers_after(header, trim(names(k))//" =", value, found)
+         call check(error, found .and. nint(value(1)) == codes(k), trim(names(k))//" differs from the library")
+         if (allocated(error)) return
+      end do
+   end subroutine test_header_codes
+
+   !> The F77 program differs from its RADAU5 version only in the CALL statement, builds
+   !> with pkg-config as a legacy Makefile would, and reproduces Robertson's published
+   !> solution at t = 40 (rtol 1e-8: relative errors below 1e-6).
+   subroutine test_legacy_robertson(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: reference(3) = [0.7158270687194048_dp, 9.185534764557822e-6_dp, 0.2841637457458297_dp]
+      type(line_type), allocatable :: ours(:), theirs(:)
+      type(run_type) :: run
+      real(dp) :: values(4), counts(8)
+      logical :: found, in_call
+      integer :: k
+
+      call read_lines("example/legacy/robertson.f", ours)
+      call read_lines("example/legacy/robertson_radau5.f", theirs)
+      call check(error, size(ours) == size(theirs) .and. size(ours) > 0, "the two programs differ in length")
+      if (allocated(error)) return
+      in_call = .false.
+      do k = 1, size(ours)
+         ! fixed form: a statement beyond column 72 is silently cut (and an argument lost)
+         call check(error, len_trim(ours(k)%text) <= 72 .and. len_trim(theirs(k)%text) <= 72, &
+            "a line beyond column 72 at line "//trim(format_real(real(k, dp), 3)))
+         if (allocated(error)) return
+         if (index(ours(k)%text, "      CALL ") == 1) then
+            in_call = .true.
+         else if (index(ours(k)%text, "     &") /= 1) then
+            in_call = .false.
+         end if
+         if (ours(k)%text == theirs(k)%text) cycle
+         call check(error, in_call, "line "//trim(format_real(real(k, dp), 3))//" differs outside the CALL: "// &
+            ours(k)%text)
+         if (allocated(error)) return
+      end do
+      if (missing_installation(error)) return
+      call run_command(pkg_config_environment()//"gfortran -O2 -Werror=line-truncation "// &
+         "example/legacy/robertson.f $(pkg-config --cflags --libs taylorode) -o "//scratch//"/robertson_f77 && "// &
+         scratch//"/robertson_f77", run)
+      call check(error, run%exit_status, 0, "build or run of the F77 program failed")
+      if (allocated(error)) return
+      call numbers_after(run%stdout, "Y =", values(2:4), found)
+      call check(error, found .and. has_line(run%stdout, "X =  40.000"), "no final state printed")
+      if (allocated(error)) return
+      call check(error, maxval(abs(values(2:4) - reference)/reference) < 1.0e-6_dp, "Robertson at t = 40 off by "// &
+         format_real(maxval(abs(values(2:4) - reference)/reference), 2))
+      if (allocated(error)) return
+      call numbers_after(run%stdout, "IDID =", counts(1:1), found)
+      call check(error, found .and. nint(counts(1)) == 1, "IDID should be 1")
+   end subroutine test_legacy_robertson
+
+   !> The C program, built by its plain Makefile with pkg-config, gives the Fortran
+   !> library's answer; 100 continued calls give it to the tolerance.
+   subroutine test_c_van_der_pol(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      type(status_type) :: stat
+      real(dp) :: u(2), one_call(2), continued(2)
+      logical :: found
+      if (missing_installation(error)) return
+      call run_command("mkdir -p "//scratch//"/c && "//pkg_config_environment()//"make --no-print-directory -s "// &
+         "-C "//scratch//"/c -f $PWD/example/c/Makefile VPATH=$PWD/example/c van_der_pol && "//scratch// &
+         "/c/van_der_pol", run)
+      call check(error, run%exit_status, 0, "build or run of the C program failed")
+      if (allocated(error)) return
+      call fortran_van_der_pol(u, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call numbers_after(run%stdout, "one call:   y =", one_call(1:1), found)
+      call numbers_after(run%stdout, "z =", one_call(2:2), found)
+      call check(error, found .and. maxval(abs(one_call - u)) <= 1.0e-14_dp*maxval(abs(u)), &
+         "C and Fortran differ: "//format_real(maxval(abs(one_call - u)), 3))
+      if (allocated(error)) return
+      call numbers_after(run%stdout, "100 calls:  y =", continued(1:1), found)
+      call check(error, found .and. abs(continued(1) - u(1)) < 1.0e-6_dp, "100 continued calls differ")
+   end subroutine test_c_van_der_pol
+
+   !> The Python example (ctypes and numpy) gives the Fortran library's answer; skipped
+   !> where python3 with numpy is not installed.
+   subroutine test_python_van_der_pol(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      type(status_type) :: stat
+      real(dp) :: u(2), values(1), python(2)
+      logical :: found
+      if (missing_installation(error)) return
+      call run_command("python3 -c 'import numpy'", run)
+      if (run%exit_status /= 0) then
+         call skip_test(error, "python3 with numpy is not installed")
+         return
+      end if
+      call run_command("TAYLORODE_PREFIX="//installation()//" python3 example/python/van_der_pol.py", run)
+      call check(error, run%exit_status, 0, "the Python example failed")
+      if (allocated(error)) return
+      call fortran_van_der_pol(u, stat)
+      call numbers_after(run%stdout, "y =", values, found)
+      python(1) = values(1)
+      call numbers_after(run%stdout, "z =", values, found)
+      python(2) = values(1)
+      call check(error, found .and. maxval(abs(python - u)) <= 1.0e-14_dp*maxval(abs(u)), &
+         "Python and Fortran differ: "//format_real(maxval(abs(python - u)), 3))
+   end subroutine test_python_van_der_pol
+
+end module test_interfaces
