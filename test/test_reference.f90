@@ -8,6 +8,10 @@ module test_reference
       integrator_options_type, integration_stats_type, status_ok, status_max_steps
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_ic_prepared, vdp_ic_unprepared, &
       robertson_type, new_robertson, test_problem_type, new_test_problem
+   use taylorode_base_status, only: status_invalid_argument
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, &
+      dense_structure, band_structure
+   use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -29,7 +33,8 @@ contains
          new_unittest("radau5-test-set-references", test_radau_test_set), &
          new_unittest("l-stable-schemes-robertson-1e11", test_schemes_robertson), &
          new_unittest("l-stable-schemes-van-der-pol-1e6", test_schemes_van_der_pol), &
-         new_unittest("explicit-schemes-fail-cleanly", test_explicit_fail_cleanly) &
+         new_unittest("explicit-schemes-fail-cleanly", test_explicit_fail_cleanly), &
+         new_unittest("complex-solver-direct", test_complex_solver) &
          ]
    end subroutine collect_reference
 
@@ -245,5 +250,122 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_explicit_fail_cleanly
+
+   !> The complex solver's (s I - J)^(-1) b against a direct solve (Gauss-Jordan
+   !> elimination with partial pivoting on the complex matrix, written here) for a
+   !> small dense J (the written-out LU), a large one (LAPACK) and a band J in dense
+   !> and in band storage; a dense J in a band solver is a reported mismatch.
+   subroutine test_complex_solver(error)
+      type(error_type), allocatable, intent(out) :: error
+      complex(dp), parameter :: shift = (2.5_dp, 1.7_dp)
+      integer, parameter :: orders(2) = [5, 40]
+      class(matrix_type), allocatable :: jac, band_jac
+      type(complex_solver_type) :: solver, band_solver
+      type(status_type) :: stat
+      complex(dp), allocatable :: x(:), b(:), direct(:), y(:)
+      real(dp), allocatable :: re(:), im(:)
+      integer :: n, i, j, k
+
+      do k = 1, size(orders)
+         n = orders(k)
+         call new_matrix(jac, n, dense_structure(), stat)
+         select type (jac)
+         type is (dense_matrix_type)
+            do j = 1, n
+               do i = 1, n
+                  jac%a(i, j) = sin(real(3*i + 7*j, dp)) + merge(-4.0_dp, 0.0_dp, i == j)
+               end do
+            end do
+         end select
+         b = [(cmplx(cos(real(i, dp)), real(i, dp)/n, dp), i=1, n)]
+         call new_complex_solver(solver, n, dense_structure(), stat)
+         call solver%assemble(shift, jac, stat)
+         call solver%factor(stat)
+         x = b
+         call solver%solve(x, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         direct = direct_solve(jac, b)
+         call check(error, maxval(abs(x - direct)) <= 1.0e-13_dp*maxval(abs(direct)), &
+            "dense n = "//format_real(real(n, dp))//": differs from the direct solve by "// &
+            format_real(maxval(abs(x - direct))))
+         if (allocated(error)) return
+         re = b%re
+         im = b%im
+         call solver%solve_parts(re, im, stat)
+         call check(error, maxval(abs(cmplx(re, im, dp) - x)) == 0.0_dp, "solve_parts differs from solve")
+         if (allocated(error)) return
+      end do
+
+      ! a band J (kl = 2, ku = 1): band storage, and the same J in a dense solver
+      n = 30
+      call new_matrix(band_jac, n, band_structure(2, 1), stat)
+      select type (band_jac)
+      type is (band_matrix_type)
+         do j = 1, n
+            do i = max(1, j - 1), min(n, j + 2)
+               band_jac%ab(band_jac%kl + band_jac%ku + 1 + i - j, j) = cos(real(5*i - 2*j, dp)) + &
+                  merge(3.0_dp, 0.0_dp, i == j)
+            end do
+         end do
+      end select
+      b = [(cmplx(1.0_dp, real(i, dp), dp), i=1, n)]
+      call new_complex_solver(band_solver, n, band_structure(2, 1), stat)
+      call band_solver%assemble(shift, band_jac, stat)
+      call band_solver%factor(stat)
+      y = b
+      call band_solver%solve(y, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call new_complex_solver(solver, n, dense_structure(), stat)
+      call solver%assemble(shift, band_jac, stat)
+      call solver%factor(stat)
+      x = b
+      call solver%solve(x, stat)
+      direct = direct_solve(band_jac, b)
+      call check(error, maxval(abs(y - direct)) <= 1.0e-13_dp*maxval(abs(direct)) .and. &
+         maxval(abs(x - direct)) <= 1.0e-13_dp*maxval(abs(direct)), "band J: band or dense path differs from the direct solve")
+      if (allocated(error)) return
+
+      call new_matrix(jac, n, dense_structure(), stat)
+      call band_solver%assemble(shift, jac, stat)
+      call check(error, stat%code, status_invalid_argument, "a dense J in a band solver must be reported")
+   contains
+      !> (shift I - J)^(-1) b by Gauss-Jordan elimination with partial pivoting.
+      function direct_solve(jac, b) result(x)
+         class(matrix_type), intent(in) :: jac
+         complex(dp), intent(in) :: b(:)
+         complex(dp) :: x(size(b))
+         complex(dp) :: m(size(b), size(b) + 1), row(size(b) + 1)
+         integer :: n, i, j, p
+         n = size(b)
+         m = (0.0_dp, 0.0_dp)
+         select type (jac)
+         type is (dense_matrix_type)
+            m(:, :n) = -jac%a
+         type is (band_matrix_type)
+            do j = 1, n
+               do i = max(1, j - jac%ku), min(n, j + jac%kl)
+                  m(i, j) = -jac%ab(jac%kl + jac%ku + 1 + i - j, j)
+               end do
+            end do
+         end select
+         do i = 1, n
+            m(i, i) = m(i, i) + shift
+         end do
+         m(:, n + 1) = b
+         do j = 1, n
+            p = j - 1 + maxloc(abs(m(j:, j)), 1)
+            row = m(j, :)
+            m(j, :) = m(p, :)
+            m(p, :) = row
+            m(j, :) = m(j, :)/m(j, j)
+            do i = 1, n
+               if (i /= j) m(i, :) = m(i, :) - m(i, j)*m(j, :)
+            end do
+         end do
+         x = m(:, n + 1)
+      end function direct_solve
+   end subroutine test_complex_solver
 
 end module test_reference
