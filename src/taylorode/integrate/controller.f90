@@ -68,8 +68,15 @@ contains
       e0 = max(err, epsilon(1.0_dp))
       e1 = max(err_previous, epsilon(1.0_dp))
       e2 = max(err_before, epsilon(1.0_dp))
-      factor = kappa*e0**(-gains(1, controller)/q)*e1**(gains(2, controller)/q)* &
-         e2**(-gains(3, controller)/q)
+      if (controller == controller_predictive .and. q == 4.0_dp) then
+         ! err^(-1/4) as two square roots (a third of the cost of a power)
+         factor = kappa/sqrt(sqrt(e0))
+         return
+      end if
+      ! a zero gain contributes the factor 1 exactly: its power is not computed
+      factor = kappa*e0**(-gains(1, controller)/q)
+      if (gains(2, controller) /= 0.0_dp) factor = factor*e1**(gains(2, controller)/q)
+      if (gains(3, controller) /= 0.0_dp) factor = factor*e2**(-gains(3, controller)/q)
    end function controller_factor
 
    !> Predictive factor h_new / h after an accepted step of size h whose accepted
@@ -89,8 +96,13 @@ contains
       !> Size of the previous accepted step (> 0)
       real(dp), intent(in) :: h_previous
       real(dp) :: factor
-      factor = kappa*(h/h_previous)*(max(err_previous, predictive_error_floor)/ &
-         max(err, epsilon(1.0_dp))**2)**(1.0_dp/q)
+      real(dp) :: ratio
+      ratio = max(err_previous, predictive_error_floor)/max(err, epsilon(1.0_dp))**2
+      if (q == 4.0_dp) then
+         factor = kappa*(h/h_previous)*sqrt(sqrt(ratio))
+      else
+         factor = kappa*(h/h_previous)*ratio**(1.0_dp/q)
+      end if
    end function predictive_factor
 
    !> Name of a controller as users type it ("i", "pi", "pid", "predictive", "auto").
