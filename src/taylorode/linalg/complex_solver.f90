@@ -36,6 +36,8 @@ module taylorode_linalg_complex_solver
       integer, allocatable :: pivots(:)
       !> Right-hand side work space of `solve_parts`
       complex(dp), allocatable :: work(:)
+      !> 1/U(k, k) of the written-out factorization (small dense systems)
+      complex(dp), allocatable :: inverse_diagonal(:)
       !> Whether `a` holds valid factors
       logical :: factored = .false.
    contains
@@ -84,7 +86,7 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      allocate (solver%pivots(n), solver%work(n))
+      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n))
    end subroutine new_complex_solver
 
    !> a = s I - J. J must have the solver's order and fit its storage: any J for a
@@ -163,7 +165,7 @@ contains
       if (self%storage == storage_band) then
          call complex_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info)
       else if (self%n <= small_lu_max_order) then
-         call small_lu_factor(self%a, self%pivots, info)
+         call small_lu_factor(self%a, self%pivots, info, self%inverse_diagonal)
       else
          call complex_lu_factor(self%a, self%pivots, info)
       end if
@@ -209,8 +211,12 @@ contains
       !> status_invalid_argument when there are no factors or the sizes are wrong
       type(status_type), intent(inout) :: stat
       integer :: i
-      if (size(re) /= self%n .or. size(im) /= self%n) then
+      if (.not. self%factored .or. size(re) /= self%n .or. size(im) /= self%n) then
          call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
+         return
+      end if
+      if (self%storage == storage_dense .and. self%n <= small_lu_max_order) then
+         call small_solve_parts(self%a, self%pivots, self%inverse_diagonal, re, im)
          return
       end if
       do i = 1, self%n
@@ -222,5 +228,54 @@ contains
          im(i) = self%work(i)%im
       end do
    end subroutine solve_parts
+
+   !> `small_lu_solve` on a right-hand side kept as real and imaginary parts, in
+   !> real arithmetic (no packing into a complex vector; the systems of Radau IIA
+   !> on small problems are solved a few times per step).
+   pure subroutine small_solve_parts(lu, ipiv, inverse_diagonal, re, im)
+      complex(dp), intent(in) :: lu(:, :)
+      integer, intent(in) :: ipiv(:)
+      complex(dp), intent(in) :: inverse_diagonal(:)
+      real(dp), intent(inout) :: re(:), im(:)
+      integer :: n, i, k, p
+      real(dp) :: swap, br, bi, lr, li
+
+      n = size(lu, 1)
+      do k = 1, n
+         p = ipiv(k)
+         if (p /= k) then
+            swap = re(k)
+            re(k) = re(p)
+            re(p) = swap
+            swap = im(k)
+            im(k) = im(p)
+            im(p) = swap
+         end if
+      end do
+      do k = 1, n - 1
+         br = re(k)
+         bi = im(k)
+         do i = k + 1, n
+            lr = lu(i, k)%re
+            li = lu(i, k)%im
+            re(i) = re(i) - (br*lr - bi*li)
+            im(i) = im(i) - (br*li + bi*lr)
+         end do
+      end do
+      do k = n, 1, -1
+         lr = inverse_diagonal(k)%re
+         li = inverse_diagonal(k)%im
+         br = re(k)*lr - im(k)*li
+         bi = re(k)*li + im(k)*lr
+         re(k) = br
+         im(k) = bi
+         do i = 1, k - 1
+            lr = lu(i, k)%re
+            li = lu(i, k)%im
+            re(i) = re(i) - (br*lr - bi*li)
+            im(i) = im(i) - (br*li + bi*lr)
+         end do
+      end do
+   end subroutine small_solve_parts
 
 end module taylorode_linalg_complex_solver

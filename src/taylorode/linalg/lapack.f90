@@ -214,13 +214,16 @@ contains
    !> the pivot is the first entry of largest magnitude (LAPACK's choice), rows are
    !> swapped across the whole matrix and the factors are stored as dgetrf stores
    !> them, so `lu_solve` accepts them too. info = k > 0: U(k, k) is exactly zero.
-   pure subroutine small_lu_factor_real(a, ipiv, info)
+   pure subroutine small_lu_factor_real(a, ipiv, info, inverse_diagonal)
       !> Square matrix on entry, its LU factors on exit
       real(dp), contiguous, intent(inout) :: a(:, :)
       !> Pivot indices, size(a, 1)
       integer, contiguous, intent(out) :: ipiv(:)
       !> 0 success, k > 0 singular (first zero pivot)
       integer, intent(out) :: info
+      !> 1/U(k, k), for solves that multiply instead of divide (a division takes
+      !> three times as long, and back substitution chains them)
+      real(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
       integer :: n, i, j, k, p
       real(dp) :: largest, pivot, swap, factor
 
@@ -248,6 +251,7 @@ contains
             end do
          end if
          pivot = 1.0_dp/a(k, k)
+         if (present(inverse_diagonal)) inverse_diagonal(k) = pivot
          do i = k + 1, n
             a(i, k) = a(i, k)*pivot
          end do
@@ -261,13 +265,15 @@ contains
    end subroutine small_lu_factor_real
 
    !> Solve A x = b with the factors from `small_lu_factor` (or `lu_factor`).
-   pure subroutine small_lu_solve_real(lu, ipiv, b)
+   pure subroutine small_lu_solve_real(lu, ipiv, b, inverse_diagonal)
       !> LU factors
       real(dp), contiguous, intent(in) :: lu(:, :)
       !> Pivot indices
       integer, contiguous, intent(in) :: ipiv(:)
       !> Right-hand side on entry, solution on exit
       real(dp), contiguous, intent(inout) :: b(:)
+      !> 1/U(k, k) from `small_lu_factor`: multiplied instead of dividing by U(k, k)
+      real(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
       integer :: n, i, k
       real(dp) :: swap, bk
 
@@ -285,24 +291,36 @@ contains
             b(i) = b(i) - bk*lu(i, k)
          end do
       end do
-      do k = n, 1, -1
-         b(k) = b(k)/lu(k, k)
-         bk = b(k)
-         do i = 1, k - 1
-            b(i) = b(i) - bk*lu(i, k)
+      if (present(inverse_diagonal)) then
+         do k = n, 1, -1
+            bk = b(k)*inverse_diagonal(k)
+            b(k) = bk
+            do i = 1, k - 1
+               b(i) = b(i) - bk*lu(i, k)
+            end do
          end do
-      end do
+      else
+         do k = n, 1, -1
+            b(k) = b(k)/lu(k, k)
+            bk = b(k)
+            do i = 1, k - 1
+               b(i) = b(i) - bk*lu(i, k)
+            end do
+         end do
+      end if
    end subroutine small_lu_solve_real
 
    !> Complex counterpart of `small_lu_factor_real` (pivot magnitude |Re| + |Im|,
    !> as LAPACK's izamax); the factors are those zgetrf stores.
-   pure subroutine small_lu_factor_complex(a, ipiv, info)
+   pure subroutine small_lu_factor_complex(a, ipiv, info, inverse_diagonal)
       !> Square matrix on entry, its LU factors on exit
       complex(dp), contiguous, intent(inout) :: a(:, :)
       !> Pivot indices, size(a, 1)
       integer, contiguous, intent(out) :: ipiv(:)
       !> 0 success, k > 0 singular (first zero pivot)
       integer, intent(out) :: info
+      !> 1/U(k, k), for solves that multiply instead of divide
+      complex(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
       integer :: n, i, j, k, p
       real(dp) :: largest
       complex(dp) :: pivot, swap, factor
@@ -331,6 +349,7 @@ contains
             end do
          end if
          pivot = reciprocal(a(k, k))
+         if (present(inverse_diagonal)) inverse_diagonal(k) = pivot
          do i = k + 1, n
             a(i, k) = a(i, k)*pivot
          end do
