@@ -3,7 +3,8 @@ module taylorode_integrate_options
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
-   use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, default_kappa
+   use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, default_kappa, &
+      controller_predictive, controller_auto
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -60,8 +61,9 @@ module taylorode_integrate_options
       class(error_weight_type), allocatable :: error_weights
       !> norm_max or norm_rms
       integer :: norm = norm_max
-      !> controller_i, controller_pi or controller_pid
-      integer :: controller = controller_i
+      !> controller_i, controller_pi, controller_pid, controller_predictive, or
+      !> controller_auto: the scheme's preference (predictive for radau5, I for the others)
+      integer :: controller = controller_auto
       !> Safety factor kappa in (0, 1]
       real(dp) :: kappa = default_kappa
       !> Order exponent q of the controller, in [1, 20]; 0 takes it from the scheme pair
@@ -84,8 +86,9 @@ module taylorode_integrate_options
       !> Keep factored Newton matrices across steps while h changes by at most 20 %
       !> and Newton contracts fast (0.1 or better); off: one factorization per solve
       logical :: reuse_newton_matrix = .true.
-      !> Newton stops when every increment is below this fraction of its weight w_i
-      real(dp) :: newton_fraction = 1.0e-4_dp
+      !> Newton stops when every increment is below this fraction of its weight w_i;
+      !> 0 lets the scheme choose (1e-4; radau5: Hairer's FNEWT from rtol)
+      real(dp) :: newton_fraction = 0.0_dp
       !> Consecutive failed attempts (Newton failure, NaN/Inf values) before giving up
       integer :: max_failures = 10
       !> advance_scheme, advance_high or advance_low
@@ -164,8 +167,10 @@ contains
       if (options%norm /= norm_max .and. options%norm /= norm_rms) then
          call invalid("norm must be norm_max or norm_rms"); return
       end if
-      if (all(options%controller /= [controller_i, controller_pi, controller_pid])) then
-         call invalid("controller must be controller_i, controller_pi or controller_pid"); return
+      if (all(options%controller /= [controller_i, controller_pi, controller_pid, controller_predictive, &
+         controller_auto])) then
+         call invalid("controller must be controller_i, controller_pi, controller_pid, controller_predictive "// &
+            "or controller_auto"); return
       end if
       if (.not. finite_in(options%kappa, 0.0_dp, 1.0_dp) .or. options%kappa == 0.0_dp) then
          call invalid("kappa must be in (0, 1]"); return
@@ -205,9 +210,9 @@ contains
          call invalid("max_newton_iterations must be at least 2 (a kept Newton matrix needs a second "// &
             "iteration to measure its contraction)"); return
       end if
-      if (.not. finite_in(options%newton_fraction, 0.0_dp, 1.0_dp) .or. options%newton_fraction == 0.0_dp .or. &
-         options%newton_fraction == 1.0_dp) then
-         call invalid("newton_fraction must be in (0, 1)"); return
+      if (.not. (options%newton_fraction == 0.0_dp .or. (finite_in(options%newton_fraction, 0.0_dp, 1.0_dp) .and. &
+         options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp))) then
+         call invalid("newton_fraction must be in (0, 1) (or 0 for the scheme's default)"); return
       end if
       if (options%max_failures < 1) then
          call invalid("max_failures must be at least 1"); return

@@ -14,7 +14,8 @@ module taylorode_integrate_stepper
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_high, advance_low
-   use taylorode_integrate_controller, only: controller_factor
+   use taylorode_integrate_controller, only: controller_factor, controller_auto, controller_i, &
+      controller_predictive, predictive_factor
    use taylorode_integrate_history, only: attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -47,6 +48,12 @@ module taylorode_integrate_stepper
       logical :: zero_atol = .false.
       !> Whether a weight was raised to the roundoff floor
       logical :: weights_raised = .false.
+      !> The controller in use (options%controller, controller_auto resolved)
+      integer :: controller = controller_i
+      !> Fraction of the weights given to Newton (options%newton_fraction, 0 resolved)
+      real(dp) :: newton_fraction = 0.0_dp
+      !> Size of the previous accepted step (0 when there is none)
+      real(dp) :: h_previous = 0.0_dp
    contains
       !> Prepare for an integration of n unknowns with a scheme and options
       procedure :: start
@@ -62,7 +69,8 @@ contains
 
    !> Prepare for an integration of n unknowns: work arrays (allocated only when n
    !> changes), the Newton policy of the options and the controller exponent q
-   !> (options%q, or the lower order of the scheme's pair plus one).
+   !> (options%q, or the lower order of the scheme's pair plus one). The controller
+   !> and the Newton fraction the options leave to the scheme are settled here.
    subroutine start(self, n, scheme, options)
       !> The stepper
       class(stepper_type), intent(inout) :: self
@@ -92,6 +100,21 @@ contains
       ! weights of your own may be zero anywhere: the same fallback guards them
       self%zero_atol = self%zero_atol .or. allocated(options%error_weights)
       self%weights_raised = .false.
+      self%h_previous = 0.0_dp
+      self%controller = options%controller
+      if (self%controller == controller_auto) then
+         self%controller = merge(controller_predictive, controller_i, scheme%predictive_control)
+      end if
+      self%newton_fraction = options%newton_fraction
+      if (self%newton_fraction == 0.0_dp) then
+         if (options%rtol > 0.0_dp) then
+            self%newton_fraction = scheme%newton_fraction(options%rtol)
+         else if (allocated(options%atol_vector)) then
+            self%newton_fraction = scheme%newton_fraction(maxval(options%atol_vector))
+         else
+            self%newton_fraction = scheme%newton_fraction(options%atol)
+         end if
+      end if
    end subroutine start
 
    !> w_i = atol_i + rtol_i * max(|a_i|, |b_i|) (or the options' own error weights), at
@@ -189,7 +212,7 @@ contains
       real(dp), intent(out) :: h_next
       !> Why a failed attempt failed (its code)
       type(status_type), intent(inout) :: step_stat
-      real(dp) :: factor
+      real(dp) :: factor, hold_low, hold_high
       integer :: i
 
       h_next = h
@@ -197,7 +220,7 @@ contains
       call self%set_weights(options, u, u)
       ! never ask for more than roundoff allows, nor for a zero tolerance
       do i = 1, size(u)
-         self%newton%tolerance(i) = max(options%newton_fraction*self%weights(i), &
+         self%newton%tolerance(i) = max(self%newton_fraction*self%weights(i), &
             newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
       end do
       call problem%clear_rejection()
@@ -229,14 +252,23 @@ contains
       end if
       call self%set_weights(options, u, self%u_new)
       err = self%weighted_norm(options, self%delta)
-      factor = controller_factor(options%controller, options%kappa, self%q, err, self%err_previous, self%err_before)
+      factor = controller_factor(self%controller, scheme%step_safety(options%kappa), self%q, err, &
+         self%err_previous, self%err_before)
+      if (self%controller == controller_predictive .and. err <= 1.0_dp .and. self%h_previous > 0.0_dp) then
+         factor = min(factor, predictive_factor(options%kappa, self%q, err, self%err_previous, h, self%h_previous))
+      end if
       if (options%max_growth > 0.0_dp) factor = min(factor, options%max_growth)
       if (options%min_shrink > 0.0_dp) factor = max(factor, options%min_shrink)
+      if (err <= 1.0_dp) then
+         call scheme%step_hold(hold_low, hold_high)
+         if (factor >= hold_low .and. factor <= hold_high) factor = 1.0_dp
+      end if
       h_next = min(factor*h, options%h_max)
       if (err <= 1.0_dp) then
          outcome = attempt_accepted
          self%err_before = self%err_previous
          self%err_previous = err
+         self%h_previous = h
       else
          outcome = attempt_rejected_error
       end if

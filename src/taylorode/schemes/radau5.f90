@@ -1,95 +1,158 @@
 !> Radau IIA of order 5 (three stages, L-stable), the library's reference solver,
-!> written from its published definition (Hairer & Wanner, Solving Ordinary
-!> Differential Equations II, section IV.8).
+!> as Hairer & Wanner's RADAU5 (Solving Ordinary Differential Equations II,
+!> section IV.8, and their radau5.f of 2002).
 !>
 !> Stage increments Z_i = Y_i - U0 solve Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j);
-!> U1 = U0 + Z_3 (stiffly accurate). The 3n x 3n system is solved by simplified
-!> Newton with the real matrix I - h (A x J) through LAPACK; the Jacobian is kept
-!> from the previous step while Newton converges well (contraction below 1e-3), and
-!> a slowly contracting iteration switches to the exact stage-wise Newton matrix.
-!> A dense 3n system costs (3n)^3/3 flops per factorization: sensible up to a few
-!> hundred unknowns.
+!> U1 = U0 + Z_3 (stiffly accurate). With W = T^(-1) Z, T from the eigen-decomposition
+!> of A^(-1) (one real eigenvalue gamma, one complex pair alpha +- i beta), the
+!> simplified Newton iteration splits into one real n x n system with
+!> (gamma/h) I - J and one complex n x n system with ((alpha + i beta)/h) I - J,
+!> factored through LAPACK in the storage the problem declares (dense, or band
+!> through dgbtrf/zgbtrf: the banded Brusselator needs no dense matrix), and
+!> written-out LU factors for dense systems of up to `small_lu_max_order` unknowns.
 !>
-!> The error estimate (embedded order 3) is the filtered difference
-!>   delta = (I - h gamma0 J)^(-1) [gamma0 h F(t0, U0) + e1 Z1 + e2 Z2 + e3 Z3],
-!> gamma0 the real eigenvalue of A, e = gamma0 (-(13 + 7 sqrt 6), -13 + 7 sqrt 6, -1) / 3.
-!> At the first step and on a retry after a rejection the estimate is filtered once
-!> more, with F(t0, U0 + delta) in place of F(t0, U0), as Hairer & Wanner recommend
-!> for stiff components.
+!> What is kept between steps follows RADAU5:
+!> - the Jacobian J = J_f + J_g is recomputed after an accepted step only when its
+!>   Newton iteration contracted slowly (theta > 0.001), and on a retry only when
+!>   it was not computed at this point already;
+!> - the factorizations are kept while h is unchanged, and `step_hold` asks the
+!>   integrator to keep h when it would grow by a factor in [1, 1.2] after fast
+!>   Newton (and not to grow it at all right after a rejection);
+!> - Newton starts from the collocation polynomial of the last accepted step,
+!>   extrapolated to the new stages (zero before the first accepted step);
+!> - Newton stops when theta/(1 - theta) |dW| <= 1 in the weighted RMS norm of the
+!>   tolerance the integrator passes, after at most 7 iterations, and gives up as
+!>   soon as the contraction rate says it would not converge within them (a step
+!>   without error estimate, as `integrate_fixed` takes, cannot be shrunk: Newton
+!>   then goes on while it contracts, up to 50 iterations);
+!> - the error estimate (embedded order 3)
+!>     delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h]
+!>   reuses the real factorization, and at the first step and on every retry is
+!>   filtered once more with F(t0, U0 + delta) (ESTRAD); RADAU5 filters only when
+!>   the first estimate fails the error test, which the scheme cannot see;
+!> - `step_safety` lowers the integrator's kappa after slow Newton,
+!>   kappa (1 + 2 nit)/(newt + 2 nit), and `predictive_control` makes the
+!>   predictive (Gustafsson) controller the integrator's default for radau5.
+!>
+!> Tolerances: radau5 uses the integrator's rtol and atol as they are, like every
+!> scheme of the library; RADAU5's internal transformation rtol' = 0.1 rtol^(2/3)
+!> is not applied (the integrator owns the error test). Callers who want RADAU5's
+!> meaning of a tolerance pass 0.1 rtol^(2/3) themselves. When the options leave
+!> the Newton fraction to the scheme it is RADAU5's FNEWT,
+!> max(10 eps / rtol, min(0.03, sqrt(rtol))), of the given rtol.
+!>
+!> What the integrator does not take from RADAU5: the factor after a Newton
+!> failure (RADAU5: 0.5, or from the divergence estimate; the integrator: its own)
+!> and the first step size.
+!>
+!> Counters: one LU factorization counts the real and the complex factorization
+!> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
+!> systems) and per error-estimate solve.
 module taylorode_schemes_radau5
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_singular_matrix, &
-      status_invalid_argument
-   use taylorode_base_counters, only: counters_type
-   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, dense_structure, new_matrix
+   use taylorode_base_status, only: status_type, set_code, status_ok, status_singular_matrix, &
+      status_evaluation_failed, status_nonfinite, &
+      status_newton_diverged, status_newton_not_converged
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
+   use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
+   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
    use taylorode_problem_ode, only: ode_problem
-   use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
+   use taylorode_newton_solver, only: newton_settings_type
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac_f, evaluate_jac_g
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
    public :: radau5_type, new_radau5
 
    real(dp), parameter :: sqrt6 = sqrt(6.0_dp)
-   !> Nodes
-   real(dp), parameter :: radau_c(3) = [(4.0_dp - sqrt6)/10.0_dp, (4.0_dp + sqrt6)/10.0_dp, 1.0_dp]
-   !> Coefficient matrix, by columns
-   real(dp), parameter :: radau_a(3, 3) = reshape([ &
-      (88.0_dp - 7.0_dp*sqrt6)/360.0_dp, (296.0_dp + 169.0_dp*sqrt6)/1800.0_dp, (16.0_dp - sqrt6)/36.0_dp, &
-      (296.0_dp - 169.0_dp*sqrt6)/1800.0_dp, (88.0_dp + 7.0_dp*sqrt6)/360.0_dp, (16.0_dp + sqrt6)/36.0_dp, &
-      (-2.0_dp + 3.0_dp*sqrt6)/225.0_dp, (-2.0_dp - 3.0_dp*sqrt6)/225.0_dp, 1.0_dp/9.0_dp], [3, 3])
-   !> Real eigenvalue of A
-   real(dp), parameter :: gamma0 = (6.0_dp + 81.0_dp**(1.0_dp/3.0_dp) - 9.0_dp**(1.0_dp/3.0_dp))/30.0_dp
+   !> Nodes and the differences the collocation polynomial uses
+   real(dp), parameter :: c1 = (4.0_dp - sqrt6)/10.0_dp, c2 = (4.0_dp + sqrt6)/10.0_dp
+   real(dp), parameter :: c1m1 = c1 - 1.0_dp, c2m1 = c2 - 1.0_dp, c1mc2 = c1 - c2
    !> Weights of the stage increments in the error estimate
-   real(dp), parameter :: radau_e(3) = gamma0*[-(13.0_dp + 7.0_dp*sqrt6), -13.0_dp + 7.0_dp*sqrt6, -1.0_dp]/3.0_dp
-   !> Newton contraction below which the Jacobian is kept for the next step
-   real(dp), parameter :: jacobian_reuse_contraction = 1.0e-3_dp
+   real(dp), parameter :: dd1 = -(13.0_dp + 7.0_dp*sqrt6)/3.0_dp, dd2 = (-13.0_dp + 7.0_dp*sqrt6)/3.0_dp, &
+      dd3 = -1.0_dp/3.0_dp
+   real(dp), parameter :: cbrt81 = 81.0_dp**(1.0_dp/3.0_dp), cbrt9 = 9.0_dp**(1.0_dp/3.0_dp)
+   !> Real eigenvalue of A^(-1) (1/gamma0, gamma0 the real eigenvalue of A)
+   real(dp), parameter :: real_eigenvalue = 30.0_dp/(6.0_dp + cbrt81 - cbrt9)
+   real(dp), parameter :: alpha_a = (12.0_dp - cbrt81 + cbrt9)/60.0_dp, &
+      beta_a = (cbrt81 + cbrt9)*sqrt(3.0_dp)/60.0_dp
+   !> Complex eigenvalue pair of A^(-1): alpha +- i beta
+   real(dp), parameter :: alpha = alpha_a/(alpha_a**2 + beta_a**2), beta = beta_a/(alpha_a**2 + beta_a**2)
+   !> T (A^(-1) = T diag(gamma, [[alpha, -beta], [beta, alpha]]) T^(-1)) and T^(-1), as radau5.f
+   real(dp), parameter :: t11 = 9.1232394870892942792e-02_dp, t12 = -0.14125529502095420843_dp, &
+      t13 = -3.0029194105147424492e-02_dp, t21 = 0.24171793270710701896_dp, t22 = 0.20412935229379993199_dp, &
+      t23 = 0.38294211275726193779_dp, t31 = 0.96604818261509293619_dp
+   real(dp), parameter :: ti11 = 4.3255798900631553510_dp, ti12 = 0.33919925181580986954_dp, &
+      ti13 = 0.54177053993587487119_dp, ti21 = -4.1787185915519047273_dp, ti22 = -0.32768282076106238708_dp, &
+      ti23 = 0.47662355450055045196_dp, ti31 = -0.50287263494578687595_dp, ti32 = 2.5719269498556054292_dp, &
+      ti33 = -0.59603920482822492497_dp
 
-   !> The stage system r(Z) = Z - h (A x I) F(U0 + Z), Z = (Z1, Z2, Z3) stacked
-   type, extends(nonlinear_system_type) :: radau_stage_system_type
-      !> Unknowns of the problem
-      integer :: n = 0
-      !> Start of the step and step size
-      real(dp) :: t0 = 0.0_dp, h = 0.0_dp
-      !> State at the start of the step
-      real(dp), allocatable :: u0(:)
-      !> Stage state, F at each stage and work space
-      real(dp), allocatable :: stage(:), stage_rhs(:, :), scratch(:)
-      !> Jacobian J = J_f + J_g used by the current Newton matrix and error estimate
-      type(dense_matrix_type) :: jac
-      !> Work matrix for J_g, and the Jacobian at one stage for the exact Newton matrix
-      type(dense_matrix_type) :: jac_work, jac_stage
-      !> Whether `jac` may serve the next step
-      logical :: jacobian_valid = .false.
-      !> Whether the Newton matrix of this step has been built
-      logical :: matrix_built = .false.
-   contains
-      procedure :: residual => radau_residual
-      procedure :: newton_matrix => radau_matrix
-   end type radau_stage_system_type
+   !> Newton iterations allowed per step (RADAU5's NIT)
+   integer, parameter :: newton_iteration_limit = 7
+   !> Newton iterations allowed per fixed step (no error estimate asked: the caller
+   !> cannot shrink the step, so a slowly contracting iteration is carried on)
+   integer, parameter :: fixed_step_iterations = 50
+   !> Contraction rate at or below which the Jacobian serves the next step (THET)
+   real(dp), parameter :: jacobian_reuse_rate = 1.0e-3_dp
+   !> Contraction rate from which Newton counts as diverging
+   real(dp), parameter :: divergence_rate = 0.99_dp
+   !> Step-size factors h_new / h kept as h after fast Newton (QUOT1, QUOT2)
+   real(dp), parameter :: hold_low = 1.0_dp, hold_high = 1.2_dp
+   !> FNEWT = max(10 eps / rtol, min(newton_fraction_cap, sqrt(rtol)))
+   real(dp), parameter :: newton_fraction_cap = 0.03_dp
 
    !> Radau IIA, order 5, with its order-3 embedded error estimate
    type, extends(scheme_type) :: radau5_type
-      !> The stage system of the current step
-      type(radau_stage_system_type) :: system
-      !> Newton's method on the stage system (one 3n x 3n matrix)
-      type(newton_solver_type) :: newton
-      !> Stacked stage increments (Z1, Z2, Z3)
-      real(dp), allocatable :: increments(:)
-      !> F(t0, U0), the error estimate and a filtered state
-      real(dp), allocatable :: rhs0(:), estimate(:), filtered(:)
-      !> I - h gamma0 J and its factors, for the error estimate
-      type(linear_solver_type) :: error_solver
-      !> Start of the previous step, to recognise a retry from the same state
-      real(dp) :: previous_t0 = -huge(1.0_dp)
-      !> Whether any step was attempted since the last restart
-      logical :: started = .false.
+      !> Jacobian J = J_f + J_g used by the factorizations, and J_g before it is added
+      class(matrix_type), allocatable :: jac, jac_part
+      !> (gamma/h) I - J and its factors (band, or dense above small_lu_max_order)
+      type(linear_solver_type) :: real_solver
+      !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order
+      real(dp), allocatable :: small_matrix(:, :), small_inverse_diagonal(:)
+      integer, allocatable :: small_pivots(:)
+      !> Whether the small dense path is used
+      logical :: small = .false.
+      !> ((alpha + i beta)/h) I - J and its factors
+      type(complex_solver_type) :: complex_solver
+      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and the Newton
+      !> right-hand sides, then increments of W
+      real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
+      !> Collocation polynomial of the last accepted step, and of the last successful attempt
+      real(dp), allocatable :: polynomial(:, :), candidate(:, :)
+      !> State at the start of the step, F there, a stage state, work space, the
+      !> estimate and its filtered right-hand side part
+      real(dp), allocatable :: u_start(:), rhs0(:), stage(:), scratch(:), estimate(:), stage_part(:)
+      !> Start of the current step
+      real(dp) :: t_start = 0.0_dp
+      !> Step sizes of the polynomials, and the one the factorizations were made for
+      real(dp) :: h_polynomial = 0.0_dp, h_candidate = 0.0_dp, h_factored = 0.0_dp
+      !> Whether a step has been attempted since the restart, a polynomial of an
+      !> accepted step exists, the last successful attempt left one
+      logical :: started = .false., have_polynomial = .false., have_candidate = .false.
+      !> Whether J serves the current step, was computed at its start point, and
+      !> whether factorizations for h_factored exist
+      logical :: jacobian_valid = .false., jacobian_fresh = .false., factored = .false.
+      !> Whether F(t0, U0) is known for the current step
+      logical :: rhs0_valid = .false.
+      !> Whether the current attempt repeats one from the same state (a retry)
+      logical :: retry = .false.
+      !> Newton's contraction rate and its error factor theta/(1 - theta), kept across steps
+      real(dp) :: theta = jacobian_reuse_rate, faccon = 1.0_dp
+      !> Steps since faccon was last set: RADAU5 raises it to the power 0.8 at the
+      !> start of each step; the power is taken only when a test needs its value
+      integer :: faccon_raises = 0
+      !> Newton iterations of the last attempt
+      integer :: newton_count = 0
    contains
       procedure :: advance => radau_advance
       procedure :: prepare => radau_prepare
       procedure :: restart => radau_restart
       procedure :: stability => radau_stability
+      procedure :: step_safety => radau_step_safety
+      procedure :: step_hold => radau_step_hold
+      procedure :: newton_fraction => radau_newton_fraction
    end type radau5_type
 
 contains
@@ -102,8 +165,9 @@ contains
       self%nonlinear_order = 5
       self%embedded_order = 3
       self%implicit = .true.
+      self%predictive_control = .true.
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
-      self%newton_matrices = "I - h (A x J) (3n x 3n), I - h gamma0 J"
+      self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
    end function new_radau5
 
    !> Stability function of Radau IIA order 5: the (2, 3) Pade approximation of exp(s), s = z + w.
@@ -116,42 +180,77 @@ contains
          1.0_dp - 3.0_dp*s/5.0_dp + 3.0_dp*s**2/20.0_dp - s**3/60.0_dp)
    end function radau_stability
 
-   !> Forget the kept Jacobian, the factored matrix and the previous step (new problem
-   !> or integration).
+   !> RADAU5's safety factor: kappa, lowered after slow Newton to
+   !> kappa (1 + 2 nit) / (newt + 2 nit).
+   pure real(dp) function radau_step_safety(self, kappa) result(safety)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(in) :: kappa
+      safety = min(kappa, kappa*real(1 + 2*newton_iteration_limit, dp)/ &
+         real(self%newton_count + 2*newton_iteration_limit, dp))
+   end function radau_step_safety
+
+   !> Keep h for factors in [1, 1.2] after fast Newton (the factorizations then
+   !> serve the next step), and never grow h right after a rejection.
+   pure subroutine radau_step_hold(self, low, high)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(out) :: low, high
+      low = hold_low
+      high = hold_low
+      if (self%theta <= jacobian_reuse_rate) high = hold_high
+      if (self%retry) high = huge(1.0_dp)
+   end subroutine radau_step_hold
+
+   !> RADAU5's Newton fraction FNEWT = max(10 eps / rtol, min(0.03, sqrt(rtol))).
+   pure real(dp) function radau_newton_fraction(self, tolerance) result(fraction)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(in) :: tolerance
+      fraction = max(10.0_dp*epsilon(1.0_dp)/tolerance, min(newton_fraction_cap, sqrt(tolerance)))
+   end function radau_newton_fraction
+
+   !> Forget the Jacobian, the factorizations, the polynomial and the previous step
+   !> (new problem or integration).
    subroutine radau_restart(self)
       class(radau5_type), intent(inout) :: self
-      call self%newton%forget()
-      self%system%jacobian_valid = .false.
       self%started = .false.
+      self%have_polynomial = .false.
+      self%have_candidate = .false.
+      self%jacobian_valid = .false.
+      self%jacobian_fresh = .false.
+      self%factored = .false.
+      self%rhs0_valid = .false.
+      self%retry = .false.
+      self%theta = jacobian_reuse_rate
+      self%faccon = 1.0_dp
+      self%faccon_raises = 0
+      self%newton_count = 0
    end subroutine radau_restart
 
-   !> Work arrays; radau5 works with dense matrices (3n x 3n Newton system).
+   !> Work arrays and matrices in the storage the problem declares.
    subroutine radau_prepare(self, problem, n, stat)
       class(radau5_type), intent(inout) :: self
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
       if (.not. self%resize(problem, n, stat)) return
-      call self%newton%init(3*n, dense_structure(), stat)
-      call new_linear_solver(self%error_solver, n, dense_structure(), stat)
-      if (allocated(self%increments)) deallocate (self%increments, self%rhs0, self%estimate, self%filtered)
-      allocate (self%increments(3*n), self%rhs0(n), self%estimate(n), self%filtered(n))
-      associate (system => self%system)
-         system%n = n
-         if (allocated(system%u0)) deallocate (system%u0, system%stage, system%stage_rhs, system%scratch)
-         allocate (system%u0(n), system%stage(n), system%stage_rhs(n, 3), system%scratch(n))
-         call new_dense(system%jac)
-         call new_dense(system%jac_work)
-         call new_dense(system%jac_stage)
-      end associate
-      if (stat%code /= status_ok) self%n = 0
+      call new_matrix(self%jac, n, self%structure, stat)
+      if (stat%code == status_ok) call new_matrix(self%jac_part, n, self%structure, stat)
+      if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
+      if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+      if (stat%code /= status_ok) then
+         self%n = 0
+         return
+      end if
+      self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
+      if (allocated(self%z)) then
+         deallocate (self%z, self%w, self%r, self%polynomial, self%candidate, self%u_start, self%rhs0, &
+            self%stage, self%scratch, self%estimate, self%stage_part)
+      end if
+      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3), self%candidate(n, 3))
+      allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%scratch(n), self%estimate(n), &
+         self%stage_part(n))
+      if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
+      if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
       call self%restart()
-   contains
-      subroutine new_dense(matrix)
-         type(dense_matrix_type), intent(out) :: matrix
-         matrix%n = n
-         allocate (matrix%a(n, n), source=0.0_dp)
-      end subroutine new_dense
    end subroutine radau_prepare
 
    subroutine radau_advance(self, problem, t, h, u0, u1, newton, stat, delta)
@@ -164,139 +263,384 @@ contains
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
 
-      integer :: n, s
-      logical :: retry
+      integer :: n, i
 
-      n = size(u0)
-      associate (system => self%system)
-         retry = .not. self%started
-         if (self%started) retry = t == self%previous_t0 .and. all(u0 == system%u0)
-         self%started = .true.
-         self%previous_t0 = t
-         system%t0 = t
-         system%h = h
-         system%u0 = u0
-
-         ! the stage increments start from the explicit guess Z_j = c_j h F(t0, U0),
-         ! which the error estimate reuses; the solution is U0 + Z3
-         call evaluate_rhs(problem, t, u0, self%rhs0, system%scratch, self%counters)
-         do s = 1, 3
-            self%increments((s - 1)*n + 1:s*n) = (radau_c(s)*h)*self%rhs0
-         end do
-         system%matrix_built = .false.
-         u1 = u0
-         call self%newton%solve(system, problem, h, newton, self%increments, self%counters, stat)
-         system%jacobian_valid = stat%code == status_ok .and. self%newton%last_contraction < jacobian_reuse_contraction
-         if (stat%code /= status_ok) return
-         u1 = u0 + self%increments(2*n + 1:3*n)
-         if (.not. present(delta)) return
-
-         self%estimate = (gamma0*h)*self%rhs0
-         do s = 1, 3
-            self%estimate = self%estimate + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
-         end do
-         call self%error_solver%matrix%set_scaled(-h*gamma0, system%jac, stat)
-         call self%error_solver%matrix%add_identity(1.0_dp)
-         call self%error_solver%factor(stat)
-         self%counters%lu_factorizations = self%counters%lu_factorizations + 1
-         if (stat%code == status_singular_matrix) then
-            call set_status(stat, status_singular_matrix, "radau5: the error estimate matrix is singular")
+      n = self%n
+      call begin_step()
+      if (.not. self%jacobian_valid) then
+         call evaluate_jac_f(problem, t, u0, self%jac, self%counters)
+         call evaluate_jac_g(problem, t, u0, self%jac_part, self%counters)
+         call self%jac%add_scaled(1.0_dp, self%jac_part, stat)
+         if (stat%code /= status_ok) then
+            u1 = u0
             return
          end if
-         if (stat%code /= status_ok) return
-         call self%error_solver%solve(self%estimate, stat)
-         self%counters%linear_solves = self%counters%linear_solves + 1
-
-         if (retry) then
-            ! first step or a retry after a rejection: filter once more through F at
-            ! U0 + delta, which removes the stiff components that inflate the estimate
-            self%filtered = u0 + self%estimate
-            call evaluate_rhs(problem, t, self%filtered, self%estimate, system%scratch, self%counters)
-            self%estimate = (gamma0*h)*self%estimate
-            do s = 1, 3
-               self%estimate = self%estimate + radau_e(s)*self%increments((s - 1)*n + 1:s*n)
-            end do
-            call self%error_solver%solve(self%estimate, stat)
-            self%counters%linear_solves = self%counters%linear_solves + 1
+         self%jacobian_valid = .true.
+         self%jacobian_fresh = .true.
+         self%factored = .false.
+      end if
+      if (.not. self%factored .or. h /= self%h_factored) then
+         call factor_matrices(self, h, stat)
+         if (stat%code /= status_ok) then
+            u1 = u0
+            return
          end if
-      end associate
-      delta = self%estimate
+      end if
+
+      call solve_stages(self, problem, t, h, newton%tolerance, present(delta), stat)
+      if (stat%code /= status_ok) then
+         u1 = u0
+         return
+      end if
+      do i = 1, n
+         u1(i) = u0(i) + self%z(i, 3)
+      end do
+      call keep_candidate(self, h)
+      if (present(delta)) then
+         call estimate_error(self, problem, t, h, u0, stat)
+         delta = self%estimate
+      end if
+
+   contains
+
+      !> A new step (the previous attempt was accepted) or a retry from the same
+      !> state; what is kept from the previous attempt follows from it.
+      subroutine begin_step()
+         logical :: new_step
+         new_step = .true.
+         if (self%started) new_step = .not. (t == self%t_start .and. all(u0 == self%u_start))
+         self%started = .true.
+         if (new_step) then
+            if (self%have_candidate) then
+               ! the last successful attempt was accepted: its polynomial predicts this step
+               do i = 1, n
+                  self%polynomial(i, 1) = self%candidate(i, 1)
+                  self%polynomial(i, 2) = self%candidate(i, 2)
+                  self%polynomial(i, 3) = self%candidate(i, 3)
+               end do
+               self%h_polynomial = self%h_candidate
+               self%have_polynomial = .true.
+            end if
+            self%retry = .false.
+            self%t_start = t
+            do i = 1, n
+               self%u_start(i) = u0(i)
+            end do
+            self%rhs0_valid = .false.
+            ! the Jacobian of the previous point serves only after fast Newton there
+            if (.not. (newton%reuse_matrix .and. self%theta <= jacobian_reuse_rate)) self%jacobian_valid = .false.
+            self%jacobian_fresh = .false.
+         else
+            self%retry = .true.
+            if (.not. self%jacobian_fresh) self%jacobian_valid = .false.
+         end if
+         if (.not. newton%reuse_matrix) self%factored = .false.
+         self%have_candidate = .false.
+      end subroutine begin_step
+
    end subroutine radau_advance
 
-   !> r(Z) = Z - h (A x I) F(U0 + Z)
-   subroutine radau_residual(self, problem, u, r, counters)
-      class(radau_stage_system_type), intent(inout) :: self
-      class(ode_problem), intent(inout) :: problem
-      real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: r(:)
-      type(counters_type), intent(inout) :: counters
-      integer :: n, s, j
-
-      n = self%n
-      do s = 1, 3
-         self%stage = self%u0 + u((s - 1)*n + 1:s*n)
-         call evaluate_rhs(problem, self%t0 + radau_c(s)*self%h, self%stage, self%stage_rhs(:, s), &
-            self%scratch, counters)
-      end do
-      do s = 1, 3
-         r((s - 1)*n + 1:s*n) = u((s - 1)*n + 1:s*n)
-         do j = 1, 3
-            r((s - 1)*n + 1:s*n) = r((s - 1)*n + 1:s*n) - (self%h*radau_a(s, j))*self%stage_rhs(:, j)
-         end do
-      end do
-   end subroutine radau_residual
-
-   !> Newton matrix of the stage system. The first build of a step uses one
-   !> Jacobian J for every stage, I - h (A x J), with J from U0 (or kept from the
-   !> previous step when Newton converged fast there): this J also serves the error
-   !> estimate. A rebuild within the step (poor contraction) forms the exact
-   !> derivative, with J(Y_j) at each stage in block column j.
-   subroutine radau_matrix(self, problem, u, matrix, counters, stat)
-      class(radau_stage_system_type), intent(inout) :: self
-      class(ode_problem), intent(inout) :: problem
-      real(dp), intent(in) :: u(:)
-      class(matrix_type), intent(inout) :: matrix
-      type(counters_type), intent(inout) :: counters
+   !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J.
+   subroutine factor_matrices(self, h, stat)
+      type(radau5_type), intent(inout) :: self
+      real(dp), intent(in) :: h
       type(status_type), intent(inout) :: stat
-      integer :: n, s, j, i, column
+      integer :: info, i, j
+
+      self%factored = .false.
+      if (self%small) then
+         select type (jac => self%jac)
+         type is (dense_matrix_type)
+            do j = 1, self%n
+               do i = 1, self%n
+                  self%small_matrix(i, j) = -jac%a(i, j)
+               end do
+               self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
+            end do
+         end select
+         call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
+         if (info /= 0) call set_code(stat, status_singular_matrix)
+      else
+         call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
+         call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+         if (stat%code == status_ok) call self%real_solver%factor(stat)
+      end if
+      if (stat%code /= status_ok) return
+      call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
+      if (stat%code == status_ok) call self%complex_solver%factor(stat)
+      self%counters%lu_factorizations = self%counters%lu_factorizations + 1
+      if (stat%code /= status_ok) return
+      self%factored = .true.
+      self%h_factored = h
+   end subroutine factor_matrices
+
+   !> x = ((gamma/h) I - J)^(-1) x with the kept factors.
+   subroutine solve_real(self, x, stat)
+      type(radau5_type), intent(inout) :: self
+      real(dp), contiguous, intent(inout) :: x(:)
+      type(status_type), intent(inout) :: stat
+      if (self%small) then
+         call small_lu_solve(self%small_matrix, self%small_pivots, x, self%small_inverse_diagonal)
+      else
+         call self%real_solver%solve(x, stat)
+      end if
+   end subroutine solve_real
+
+   !> Simplified Newton on the transformed stage system from the extrapolated
+   !> collocation polynomial, about u0 = self%u_start; `tolerance` is the absolute
+   !> accuracy asked of each component of the stage increments. The loops over
+   !> the components are fused: at n = 2 their overhead is most of the work.
+   subroutine solve_stages(self, problem, t, h, tolerance, adaptive, stat)
+      type(radau5_type), intent(inout), target :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), contiguous, intent(in) :: tolerance(:)
+      !> Whether the caller can retry with a smaller step (it asked for the error
+      !> estimate): RADAU5's iteration limit and early failure apply. Otherwise
+      !> (fixed steps) Newton iterates while it contracts, up to fixed_step_iterations.
+      logical, intent(in) :: adaptive
+      type(status_type), intent(inout) :: stat
+
+      integer :: n, i, s, newt, limit
+      real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
+      real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, stage_time(3)
+      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), scratch(:)
 
       n = self%n
-      if (.not. self%matrix_built .and. .not. self%jacobian_valid) then
-         call jacobian_at(self%t0, self%u0, self%jac)
+      u0 => self%u_start
+      z => self%z
+      w => self%w
+      r => self%r
+      stage => self%stage
+      scratch => self%scratch
+      if (self%have_polynomial) then
+         c3q = h/self%h_polynomial
+         c1q = c1*c3q
+         c2q = c2*c3q
+         do i = 1, n
+            ak1 = self%polynomial(i, 1)
+            ak2 = self%polynomial(i, 2)
+            ak3 = self%polynomial(i, 3)
+            z1 = c1q*(ak1 + (c1q - c2m1)*(ak2 + (c1q - c1m1)*ak3))
+            z2 = c2q*(ak1 + (c2q - c2m1)*(ak2 + (c2q - c1m1)*ak3))
+            z3 = c3q*(ak1 + (c3q - c2m1)*(ak2 + (c3q - c1m1)*ak3))
+            z(i, 1) = z1
+            z(i, 2) = z2
+            z(i, 3) = z3
+            w(i, 1) = ti11*z1 + ti12*z2 + ti13*z3
+            w(i, 2) = ti21*z1 + ti22*z2 + ti23*z3
+            w(i, 3) = ti31*z1 + ti32*z2 + ti33*z3
+         end do
+      else
+         do i = 1, n
+            z(i, 1) = 0.0_dp
+            z(i, 2) = 0.0_dp
+            z(i, 3) = 0.0_dp
+            w(i, 1) = 0.0_dp
+            w(i, 2) = 0.0_dp
+            w(i, 3) = 0.0_dp
+         end do
       end if
-      select type (m => matrix)
-      type is (dense_matrix_type)
-         do j = 1, 3
-            if (self%matrix_built) then
-               self%stage = self%u0 + u((j - 1)*n + 1:j*n)
-               call jacobian_at(self%t0 + radau_c(j)*self%h, self%stage, self%jac_stage)
-            else
-               self%jac_stage%a = self%jac%a
-            end if
-            ! explicit loops: an array assignment here would copy through a temporary
-            do s = 1, 3
-               do column = 1, n
-                  do i = 1, n
-                     m%a((s - 1)*n + i, (j - 1)*n + column) = -(self%h*radau_a(s, j))*self%jac_stage%a(i, column)
-                  end do
-               end do
+
+      fac1 = real_eigenvalue/h
+      alphn = alpha/h
+      betan = beta/h
+      stage_time = [t + c1*h, t + c2*h, t + h]
+      self%faccon_raises = self%faccon_raises + 1
+      self%theta = jacobian_reuse_rate
+      dynold = 1.0_dp
+      thqold = 1.0_dp
+      newt = 0
+      limit = merge(newton_iteration_limit, fixed_step_iterations, adaptive)
+      do
+         if (newt >= limit) then
+            call fail(status_newton_not_converged)
+            return
+         end if
+         ! F = f + g at the three stages (the problem's parts called directly)
+         do s = 1, 3
+            do i = 1, n
+               stage(i) = u0(i) + z(i, s)
+            end do
+            call problem%f(stage_time(s), stage, r(:, s))
+            call problem%g(stage_time(s), stage, scratch)
+            do i = 1, n
+               r(i, s) = r(i, s) + scratch(i)
             end do
          end do
-         do i = 1, 3*n
-            m%a(i, i) = m%a(i, i) + 1.0_dp
+         self%counters%f_evaluations = self%counters%f_evaluations + 3
+         self%counters%g_evaluations = self%counters%g_evaluations + 3
+         if (problem%evaluation_rejected()) then
+            call fail(status_evaluation_failed)
+            return
+         end if
+         if (.not. all(ieee_is_finite(r))) then
+            call fail(status_nonfinite)
+            return
+         end if
+         do i = 1, n
+            f1 = r(i, 1)
+            f2 = r(i, 2)
+            f3 = r(i, 3)
+            r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*w(i, 1)
+            r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*w(i, 2) + betan*w(i, 3)
+            r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*w(i, 3) - betan*w(i, 2)
          end do
-      class default
-         call set_status(stat, status_invalid_argument, "radau5: the stage system needs dense storage")
-      end select
-      self%matrix_built = .true.
+         if (self%small) then
+            call small_lu_solve(self%small_matrix, self%small_pivots, r(:, 1), self%small_inverse_diagonal)
+         else
+            call self%real_solver%solve(r(:, 1), stat)
+         end if
+         if (stat%code == status_ok) call self%complex_solver%solve_parts(r(:, 2), r(:, 3), stat)
+         if (stat%code /= status_ok) return
+         newt = newt + 1
+         self%counters%newton_iterations = self%counters%newton_iterations + 1
+         self%counters%linear_solves = self%counters%linear_solves + 1
+
+         dyno = 0.0_dp
+         do i = 1, n
+            inverse = 1.0_dp/tolerance(i)
+            dyno = dyno + (r(i, 1)*inverse)**2 + (r(i, 2)*inverse)**2 + (r(i, 3)*inverse)**2
+         end do
+         dyno = sqrt(dyno/real(3*n, dp))
+         if (.not. (dyno <= huge(1.0_dp))) then
+            call fail(status_newton_diverged)
+            return
+         end if
+         if (newt > 1 .and. newt < limit) then
+            thq = dyno/dynold
+            if (newt == 2) then
+               self%theta = thq
+            else
+               self%theta = sqrt(thq*thqold)
+            end if
+            thqold = thq
+            if (self%theta < divergence_rate) then
+               self%faccon = self%theta/(1.0_dp - self%theta)
+               self%faccon_raises = 0
+               if (adaptive) then
+                  ! the error left after the remaining iterations at this rate
+                  dyth = self%faccon*dyno*self%theta**(newton_iteration_limit - 1 - newt)
+                  if (dyth >= 1.0_dp) then
+                     call fail(status_newton_not_converged)
+                     return
+                  end if
+               end if
+            else
+               call fail(status_newton_diverged)
+               return
+            end if
+         end if
+         dynold = max(dyno, epsilon(1.0_dp))
+         do i = 1, n
+            f1 = w(i, 1) + r(i, 1)
+            f2 = w(i, 2) + r(i, 2)
+            f3 = w(i, 3) + r(i, 3)
+            w(i, 1) = f1
+            w(i, 2) = f2
+            w(i, 3) = f3
+            z(i, 1) = t11*f1 + t12*f2 + t13*f3
+            z(i, 2) = t21*f1 + t22*f2 + t23*f3
+            z(i, 3) = t31*f1 + f2
+         end do
+         if (converged()) exit
+      end do
+      self%newton_count = newt
    contains
-      subroutine jacobian_at(t, state, jac)
-         real(dp), intent(in) :: t, state(:)
-         type(dense_matrix_type), intent(inout) :: jac
-         call evaluate_jac_f(problem, t, state, jac, counters)
-         call evaluate_jac_g(problem, t, state, self%jac_work, counters)
-         jac%a = jac%a + self%jac_work%a
-      end subroutine jacobian_at
-   end subroutine radau_matrix
+      !> A failed solve, by its code alone (nothing is allocated)
+      subroutine fail(code)
+         integer, intent(in) :: code
+         self%newton_count = newt
+         call set_code(stat, code)
+      end subroutine fail
+
+      !> faccon dyno <= 1 (RADAU5's test). With powers of faccon pending, faccon^p
+      !> (0 < p < 1) lies between faccon and 1, which mostly decides the test
+      !> without the power.
+      logical function converged()
+         if (self%faccon_raises > 0) then
+            if (max(self%faccon, 1.0_dp)*dyno <= 1.0_dp) then
+               converged = .true.
+               return
+            else if (min(self%faccon, 1.0_dp)*dyno > 1.0_dp) then
+               converged = .false.
+               return
+            end if
+            self%faccon = max(self%faccon, epsilon(1.0_dp))**(0.8_dp**self%faccon_raises)
+            self%faccon_raises = 0
+         end if
+         converged = self%faccon*dyno <= 1.0_dp
+      end function converged
+   end subroutine solve_stages
+
+   !> The collocation polynomial of this attempt, in RADAU5's divided-difference
+   !> form; it predicts the next step once this one is accepted.
+   subroutine keep_candidate(self, h)
+      type(radau5_type), intent(inout) :: self
+      real(dp), intent(in) :: h
+      integer :: i
+      real(dp) :: z1, z2, z3, ak, acont3
+      do i = 1, self%n
+         z1 = self%z(i, 1)
+         z2 = self%z(i, 2)
+         z3 = self%z(i, 3)
+         self%candidate(i, 1) = (z2 - z3)*(1.0_dp/c2m1)
+         ak = (z1 - z2)*(1.0_dp/c1mc2)
+         acont3 = (ak - z1*(1.0_dp/c1))*(1.0_dp/c2)
+         self%candidate(i, 2) = (ak - self%candidate(i, 1))*(1.0_dp/c1m1)
+         self%candidate(i, 3) = self%candidate(i, 2) - acont3
+      end do
+      self%h_candidate = h
+      self%have_candidate = .true.
+   end subroutine keep_candidate
+
+   !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h], filtered
+   !> once more through F(t0, U0 + delta) at the first step and on retries.
+   subroutine estimate_error(self, problem, t, h, u0, stat)
+      type(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:)
+      type(status_type), intent(inout) :: stat
+      integer :: i
+      real(dp) :: hee1, hee2, hee3
+
+      if (.not. self%rhs0_valid) then
+         call rhs(t, self%u_start, self%rhs0)
+         self%rhs0_valid = .true.
+      end if
+      hee1 = dd1/h
+      hee2 = dd2/h
+      hee3 = dd3/h
+      do i = 1, self%n
+         self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+         self%estimate(i) = self%stage_part(i) + self%rhs0(i)
+      end do
+      call solve_real(self, self%estimate, stat)
+      self%counters%linear_solves = self%counters%linear_solves + 1
+      if (stat%code /= status_ok) return
+      if (self%have_polynomial .and. .not. self%retry) return
+      do i = 1, self%n
+         self%stage(i) = self%u_start(i) + self%estimate(i)
+      end do
+      call rhs(t, self%stage, self%estimate)
+      do i = 1, self%n
+         self%estimate(i) = self%estimate(i) + self%stage_part(i)
+      end do
+      call solve_real(self, self%estimate, stat)
+      self%counters%linear_solves = self%counters%linear_solves + 1
+   contains
+      !> value = F(time, state) = f + g, counted
+      subroutine rhs(time, state, value)
+         real(dp), intent(in) :: time
+         real(dp), contiguous, intent(in) :: state(:)
+         real(dp), contiguous, intent(out) :: value(:)
+         call problem%f(time, state, value)
+         call problem%g(time, state, self%scratch)
+         value = value + self%scratch
+         self%counters%f_evaluations = self%counters%f_evaluations + 1
+         self%counters%g_evaluations = self%counters%g_evaluations + 1
+      end subroutine rhs
+   end subroutine estimate_error
 
 end module taylorode_schemes_radau5

@@ -21,8 +21,12 @@ module taylorode_schemes_scheme
    implicit none
    private
 
-   public :: scheme_type, default_newton_settings, stability_quotient
+   public :: scheme_type, default_newton_settings, default_newton_fraction, stability_quotient
    public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
+
+   !> Fraction of the error weights below which Newton increments must fall, for
+   !> schemes that take the integrator's default (options%newton_fraction = 0)
+   real(dp), parameter :: default_newton_fraction = 1.0e-4_dp
 
    !> Abstract one-step scheme
    type, abstract :: scheme_type
@@ -47,6 +51,9 @@ module taylorode_schemes_scheme
       integer :: n = 0
       !> Jacobian structure the work arrays are prepared for
       type(matrix_structure_type) :: structure
+      !> Whether the integrator's default controller (controller_auto) is the
+      !> predictive one for this scheme (radau5), else the I controller
+      logical :: predictive_control = .false.
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -60,6 +67,14 @@ module taylorode_schemes_scheme
       procedure :: restart
       !> Record the size and structure to prepare for; false when unchanged
       procedure, non_overridable :: resize
+      ! Step-control hooks the integrator asks after each successful step; the
+      ! defaults leave its step control exactly as it is without them.
+      !> Safety factor of the next step size (default: the integrator's kappa)
+      procedure :: step_safety
+      !> Band of factors h_new / h for which an accepted step keeps h (default: none)
+      procedure :: step_hold
+      !> Newton fraction of the error weights when options leave it to the scheme
+      procedure :: newton_fraction
    end type scheme_type
 
    abstract interface
@@ -214,6 +229,38 @@ contains
       class(scheme_type), intent(inout) :: self
    end subroutine restart
 
+   !> Safety factor for the step size proposed after the last step; the default is
+   !> the integrator's kappa unchanged (radau5 lowers it after slow Newton).
+   pure real(dp) function step_safety(self, kappa)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> The integrator's safety factor
+      real(dp), intent(in) :: kappa
+      step_safety = kappa
+   end function step_safety
+
+   !> After an accepted step, a proposed factor h_new / h in [low, high] keeps h
+   !> (so that factored matrices serve the next step). Default: low = high = 1,
+   !> which changes nothing.
+   pure subroutine step_hold(self, low, high)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> Lower and upper end of the band
+      real(dp), intent(out) :: low, high
+      low = 1.0_dp
+      high = 1.0_dp
+   end subroutine step_hold
+
+   !> Fraction of the error weights to which Newton iterates when the options
+   !> leave it to the scheme; `tolerance` is rtol (atol when rtol = 0).
+   pure real(dp) function newton_fraction(self, tolerance)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> The integrator's relative tolerance (its absolute one when rtol = 0)
+      real(dp), intent(in) :: tolerance
+      newton_fraction = default_newton_fraction
+   end function newton_fraction
+
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then
    !> reallocates). An impossible structure leaves stat set and returns false.
@@ -282,8 +329,12 @@ contains
       real(dp), intent(out) :: scratch(:)
       !> Work counters
       type(counters_type), intent(inout) :: counters
-      call evaluate_f(problem, t, u, value, counters)
-      call evaluate_g(problem, t, u, scratch, counters)
+      ! the parts called directly (not through evaluate_f, evaluate_g): on small
+      ! systems each layer of calls costs as much as the arithmetic
+      call problem%f(t, u, value)
+      call problem%g(t, u, scratch)
+      counters%f_evaluations = counters%f_evaluations + 1
+      counters%g_evaluations = counters%g_evaluations + 1
       value = value + scratch
    end subroutine evaluate_rhs
 

@@ -1,0 +1,281 @@
+!> Complex shifted systems (s I - J) x = b with a real Jacobian J and a complex
+!> shift s: the second Newton matrix of Radau IIA after the eigen-decomposition
+!> of its coefficient matrix (Hairer & Wanner II, IV.8), where s = (alpha + i beta)/h.
+!>
+!> The solver assembles s I - J from a real dense or band `matrix_type`, factors
+!> it with partial pivoting (zgetrf, or zgbtrf in band storage with room for the
+!> fill-in; small dense systems with the written-out `small_lu_factor`) and solves
+!> with the factors as often as needed. A J whose storage does not fit the
+!> solver's (a dense J for a band solver, bandwidths wider than the solver's) is
+!> reported as status_invalid_argument, never silently truncated.
+module taylorode_linalg_complex_solver
+   use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_singular_matrix
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
+      matrix_structure_type, storage_dense, storage_band
+   use taylorode_linalg_lapack, only: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, &
+      complex_band_lu_solve, small_lu_factor, small_lu_solve, small_lu_max_order
+   implicit none
+   private
+
+   public :: complex_solver_type, new_complex_solver
+
+   !> LU factorization of s I - J, J real, s complex
+   type :: complex_solver_type
+      !> Order
+      integer :: n = 0
+      !> storage_dense or storage_band
+      integer :: storage = storage_dense
+      !> Lower and upper bandwidths (band storage)
+      integer :: kl = 0, ku = 0
+      !> The matrix s I - J, then its LU factors: n x n, or (2 kl + ku + 1) x n in
+      !> LAPACK band storage (A(i, j) in a(kl + ku + 1 + i - j, j))
+      complex(dp), allocatable :: a(:, :)
+      !> Row interchanges of the factorization
+      integer, allocatable :: pivots(:)
+      !> Right-hand side work space of `solve_parts`
+      complex(dp), allocatable :: work(:)
+      !> 1/U(k, k) of the written-out factorization (small dense systems)
+      complex(dp), allocatable :: inverse_diagonal(:)
+      !> Whether `a` holds valid factors
+      logical :: factored = .false.
+   contains
+      !> a = s I - J
+      procedure :: assemble
+      !> Factor the assembled matrix in place
+      procedure :: factor
+      !> x = (s I - J)^(-1) x, complex x
+      procedure :: solve
+      !> (re + i im) = (s I - J)^(-1) (re + i im), real and imaginary parts apart
+      procedure :: solve_parts
+   end type complex_solver_type
+
+contains
+
+   !> A solver for n x n systems with the given structure (dense or banded;
+   !> bandwidths are clamped to n - 1).
+   subroutine new_complex_solver(solver, n, structure, stat)
+      !> The new solver
+      type(complex_solver_type), intent(out) :: solver
+      !> Order, >= 1
+      integer, intent(in) :: n
+      !> Storage and bandwidths of the Jacobians it will be assembled from
+      type(matrix_structure_type), intent(in) :: structure
+      !> status_invalid_argument for an impossible structure
+      type(status_type), intent(inout) :: stat
+      if (n < 1) then
+         call set_status(stat, status_invalid_argument, "complex solver: the order must be at least 1")
+         return
+      end if
+      select case (structure%storage)
+      case (storage_dense)
+         allocate (solver%a(n, n))
+      case (storage_band)
+         if (structure%lower < 0 .or. structure%upper < 0) then
+            call set_status(stat, status_invalid_argument, "complex solver: bandwidths must be >= 0")
+            return
+         end if
+         solver%kl = min(structure%lower, n - 1)
+         solver%ku = min(structure%upper, n - 1)
+         allocate (solver%a(2*solver%kl + solver%ku + 1, n))
+      case default
+         call set_status(stat, status_invalid_argument, "complex solver: unknown storage")
+         return
+      end select
+      solver%n = n
+      solver%storage = structure%storage
+      solver%a = (0.0_dp, 0.0_dp)
+      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n))
+   end subroutine new_complex_solver
+
+   !> a = s I - J. J must have the solver's order and fit its storage: any J for a
+   !> dense solver, a band J no wider than the solver's bands for a band solver.
+   subroutine assemble(self, shift, jac, stat)
+      !> The solver
+      class(complex_solver_type), intent(inout) :: self
+      !> The complex shift s
+      complex(dp), intent(in) :: shift
+      !> The real Jacobian J
+      class(matrix_type), intent(in) :: jac
+      !> status_invalid_argument on a storage mismatch
+      type(status_type), intent(inout) :: stat
+      integer :: i, j, diagonal, shift_j
+
+      self%factored = .false.
+      if (jac%n /= self%n) then
+         call mismatch()
+         return
+      end if
+      select type (jac)
+      type is (dense_matrix_type)
+         if (self%storage /= storage_dense) then
+            call mismatch()
+            return
+         end if
+         do j = 1, self%n
+            do i = 1, self%n
+               self%a(i, j) = cmplx(-jac%a(i, j), 0.0_dp, dp)
+            end do
+            self%a(j, j) = self%a(j, j) + shift
+         end do
+      type is (band_matrix_type)
+         if (self%storage == storage_dense) then
+            do j = 1, self%n
+               do i = 1, self%n
+                  self%a(i, j) = (0.0_dp, 0.0_dp)
+               end do
+               do i = max(1, j - jac%ku), min(self%n, j + jac%kl)
+                  self%a(i, j) = cmplx(-jac%ab(jac%kl + jac%ku + 1 + i - j, j), 0.0_dp, dp)
+               end do
+               self%a(j, j) = self%a(j, j) + shift
+            end do
+         else
+            if (jac%kl > self%kl .or. jac%ku > self%ku) then
+               call mismatch()
+               return
+            end if
+            diagonal = self%kl + self%ku + 1
+            shift_j = jac%kl + jac%ku + 1
+            self%a = (0.0_dp, 0.0_dp)
+            do j = 1, self%n
+               do i = max(1, j - jac%ku), min(self%n, j + jac%kl)
+                  self%a(diagonal + i - j, j) = cmplx(-jac%ab(shift_j + i - j, j), 0.0_dp, dp)
+               end do
+               self%a(diagonal, j) = self%a(diagonal, j) + shift
+            end do
+         end if
+      class default
+         call mismatch()
+      end select
+   contains
+      subroutine mismatch()
+         call set_status(stat, status_invalid_argument, &
+            "complex solver: the Jacobian's order or storage does not fit the solver")
+      end subroutine mismatch
+   end subroutine assemble
+
+   !> Factor the assembled matrix in place.
+   subroutine factor(self, stat)
+      !> The solver
+      class(complex_solver_type), intent(inout) :: self
+      !> status_singular_matrix when a pivot is exactly zero
+      type(status_type), intent(inout) :: stat
+      integer :: info
+      if (self%storage == storage_band) then
+         call complex_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info)
+      else if (self%n <= small_lu_max_order) then
+         call small_lu_factor(self%a, self%pivots, info, self%inverse_diagonal)
+      else
+         call complex_lu_factor(self%a, self%pivots, info)
+      end if
+      self%factored = info == 0
+      if (info > 0) then
+         call set_status(stat, status_singular_matrix, "complex solver: the matrix is singular")
+      else if (info < 0) then
+         call set_status(stat, status_invalid_argument, "complex solver: LAPACK rejected the matrix")
+      end if
+   end subroutine factor
+
+   !> Solve (s I - J) x = b with the factors; x holds b on entry.
+   subroutine solve(self, x, stat)
+      !> The solver, factored
+      class(complex_solver_type), intent(in) :: self
+      !> Right-hand side on entry, solution on exit
+      complex(dp), contiguous, intent(inout) :: x(:)
+      !> status_invalid_argument when there are no factors or x has the wrong size
+      type(status_type), intent(inout) :: stat
+      integer :: info
+      if (.not. self%factored .or. size(x) /= self%n) then
+         call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
+         return
+      end if
+      if (self%storage == storage_band) then
+         call complex_band_lu_solve(self%a, self%kl, self%ku, self%pivots, x, info)
+      else if (self%n <= small_lu_max_order) then
+         call small_lu_solve(self%a, self%pivots, x)
+      else
+         call complex_lu_solve(self%a, self%pivots, x, info)
+      end if
+   end subroutine solve
+
+   !> Solve (s I - J)(x_re + i x_im) = b_re + i b_im with the factors; re and im
+   !> hold the parts of b on entry and those of x on exit.
+   subroutine solve_parts(self, re, im, stat)
+      !> The solver, factored
+      class(complex_solver_type), intent(inout) :: self
+      !> Real part of the right-hand side on entry, of the solution on exit
+      real(dp), contiguous, intent(inout) :: re(:)
+      !> Imaginary part of the right-hand side on entry, of the solution on exit
+      real(dp), contiguous, intent(inout) :: im(:)
+      !> status_invalid_argument when there are no factors or the sizes are wrong
+      type(status_type), intent(inout) :: stat
+      integer :: i
+      if (.not. self%factored .or. size(re) /= self%n .or. size(im) /= self%n) then
+         call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
+         return
+      end if
+      if (self%storage == storage_dense .and. self%n <= small_lu_max_order) then
+         call small_solve_parts(self%a, self%pivots, self%inverse_diagonal, re, im)
+         return
+      end if
+      do i = 1, self%n
+         self%work(i) = cmplx(re(i), im(i), dp)
+      end do
+      call self%solve(self%work, stat)
+      do i = 1, self%n
+         re(i) = self%work(i)%re
+         im(i) = self%work(i)%im
+      end do
+   end subroutine solve_parts
+
+   !> `small_lu_solve` on a right-hand side kept as real and imaginary parts, in
+   !> real arithmetic (no packing into a complex vector; the systems of Radau IIA
+   !> on small problems are solved a few times per step).
+   pure subroutine small_solve_parts(lu, ipiv, inverse_diagonal, re, im)
+      complex(dp), intent(in) :: lu(:, :)
+      integer, intent(in) :: ipiv(:)
+      complex(dp), intent(in) :: inverse_diagonal(:)
+      real(dp), intent(inout) :: re(:), im(:)
+      integer :: n, i, k, p
+      real(dp) :: swap, br, bi, lr, li
+
+      n = size(lu, 1)
+      do k = 1, n
+         p = ipiv(k)
+         if (p /= k) then
+            swap = re(k)
+            re(k) = re(p)
+            re(p) = swap
+            swap = im(k)
+            im(k) = im(p)
+            im(p) = swap
+         end if
+      end do
+      do k = 1, n - 1
+         br = re(k)
+         bi = im(k)
+         do i = k + 1, n
+            lr = lu(i, k)%re
+            li = lu(i, k)%im
+            re(i) = re(i) - (br*lr - bi*li)
+            im(i) = im(i) - (br*li + bi*lr)
+         end do
+      end do
+      do k = n, 1, -1
+         lr = inverse_diagonal(k)%re
+         li = inverse_diagonal(k)%im
+         br = re(k)*lr - im(k)*li
+         bi = re(k)*li + im(k)*lr
+         re(k) = br
+         im(k) = bi
+         do i = 1, k - 1
+            lr = lu(i, k)%re
+            li = lu(i, k)%im
+            re(i) = re(i) - (br*lr - bi*li)
+            im(i) = im(i) - (br*li + bi*lr)
+         end do
+      end do
+   end subroutine small_solve_parts
+
+end module taylorode_linalg_complex_solver
