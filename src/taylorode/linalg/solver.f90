@@ -1,14 +1,18 @@
 !> Linear solvers of the Newton iterations: a solver owns the matrix the caller
 !> assembles, factors it in place and solves with the factors as often as needed.
 !> The storage (dense or banded) comes from the structure the problem declares;
-!> `new_linear_solver` picks the matching LAPACK path.
+!> `new_linear_solver` picks the matching LAPACK path. Dense matrices of up to
+!> `small_lu_max_order` rows are factored by the written-out LU instead, with
+!> LAPACK's pivots and arithmetic (the same factors and solutions to the last bit,
+!> without the cost of a LAPACK call, which exceeds the arithmetic at these sizes).
 module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
       status_singular_matrix
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, new_matrix
-   use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve
+   use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, &
+      small_lu_factor, small_lu_solve, small_lu_max_order
    implicit none
    private
 
@@ -56,7 +60,11 @@ contains
       integer :: info
       select type (a => self%matrix)
       type is (dense_matrix_type)
-         call lu_factor(a%a, self%pivots, info)
+         if (a%n <= small_lu_max_order) then
+            call small_lu_factor(a%a, self%pivots, info)
+         else
+            call lu_factor(a%a, self%pivots, info)
+         end if
       type is (band_matrix_type)
          call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)
       class default
@@ -83,7 +91,12 @@ contains
       if (self%factored .and. size(x) == self%matrix%n) then
          select type (a => self%matrix)
          type is (dense_matrix_type)
-            call lu_solve(a%a, self%pivots, x, info)
+            if (a%n <= small_lu_max_order) then
+               call small_lu_solve(a%a, self%pivots, x)
+               info = 0
+            else
+               call lu_solve(a%a, self%pivots, x, info)
+            end if
          type is (band_matrix_type)
             call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
          end select
