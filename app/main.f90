@@ -13,10 +13,12 @@ program taylorode_app
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
       status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
       scheme_count, integrator_options_type, paper_options, norm_max, norm_rms, controller_i, controller_pi, &
+      estimate_embedded, estimate_doubling, &
       controller_pid, controller_name, integrate, integration_stats_type, step_history_type
    use taylorode_testset, only: test_problem_type, test_problem_names, new_test_problem, van_der_pol_type, &
-      new_van_der_pol, vdp_split_paper, vdp_split_stiff, vdp_ic_unprepared, robertson_type, new_robertson, &
-      hires_type, new_hires, brusselator_type, new_brusselator
+      new_van_der_pol, vdp_split_paper, vdp_split_stiff, vdp_ic_unprepared, vdp_ic_prepared, &
+      van_der_pol_initial_state, robertson_type, new_robertson, hires_type, new_hires, hires_split_reaction_stiff, &
+      new_orego, orego_split_bilinear_stiff, new_e5, brusselator_type, new_brusselator
    use taylorode_analysis, only: timed_run, timed_run_type, reference_run, tolerance_scale, &
       work_precision_config_type, work_precision_point_type, work_precision, step_stability, s1_supremum, &
       s1_axis_crossings
@@ -26,7 +28,6 @@ program taylorode_app
    use taylorode_base_files, only: text_file_type, make_directory, is_directory, is_writable_directory, &
       parent_directory
    use taylorode_integrate_options, only: validate_options
-   use taylorode_linalg_lapack, only: lu_factor, lu_solve
    implicit none
 
    !> Version of the app and the library
@@ -38,7 +39,7 @@ program taylorode_app
    character(len=*), parameter :: valued_options(*) = [character(len=12) :: "--out", "--scheme", "--ic", &
       "--mu", "--tend", "--split", "--rtol", "--atol", "--norm", "--controller", "--h0", "--hmax", &
       "--history", "--dense", "--budget", "--repeats", "--problem", "--schemes", "--tols", "--grid", &
-      "--max-points"]
+      "--estimate", "--settings", "--problems", "--min-time", "--refs", "--csv"]
    !> Step budget per run of table, sweep and bench unless --budget (or --full for table)
    integer(i8), parameter :: default_budget = 2000000_i8
    !> Step budget of a vdp run (and its reference run) unless --budget
@@ -46,11 +47,18 @@ program taylorode_app
    !> Upper bounds of the counts a user may ask for: each keeps a run finite
    integer(i8), parameter :: max_budget = 1000000000_i8
    integer, parameter :: max_dense_points = 1000000, max_repeats = 100, max_grid = 2001, &
-      max_brusselator_points = 1000000, max_decades = 16
-   !> Global error, in the integrator's own weights, that the extreme cases accept: 100 for
-   !> schemes of order 2 and higher, 1e4 for first-order ones (error per step control lets
-   !> up to N local errors of size ~tol add up; these cases take ~1e4 and 1e5 - 1e6 steps)
-   real(dp), parameter :: accuracy_bound_high = 100.0_dp, accuracy_bound_first = 1.0e4_dp
+      max_decades = 16
+   !> bench: longest accumulated CPU time per run (--min-time)
+   real(dp), parameter :: max_min_time = 3600.0_dp
+   !> Problems of the bench command: the peer harness's, and the paper's Van der Pol run
+   character(len=*), parameter :: bench_problem_names(*) = [character(len=10) :: "vdp-paper", "vdp1e3_wp", &
+      "vdp1e3_up", "rober40", "rober1e11", "hires", "orego", "e5", "bruss32", "bruss512", "bs1000", "bs10000", &
+      "bs100000"]
+   !> Global error, in the integrator's own weights, that the extreme cases accept: the
+   !> number of accepted steps N, at least 100. Error per step control keeps each local
+   !> error within the weights, and N of them add up to at most about N where the
+   !> problem does not amplify errors (stiff decay usually damps them far below that).
+   real(dp), parameter :: accuracy_bound_least = 100.0_dp
 
    !> What the user asked for
    type :: request_type
@@ -88,9 +96,35 @@ program taylorode_app
       integer :: grid = 161
       !> extreme: smaller cases (--quick)
       logical :: quick = .false.
-      !> bench: largest Brusselator size (--max-points)
-      integer :: max_points = 100000
+      !> bench: problems, tolerances, CPU seconds accumulated per run, the harness's
+      !> reference directory and the CSV file in its columns
+      character(len=16), allocatable :: problems(:)
+      real(dp), allocatable :: tols(:)
+      real(dp) :: min_time = 0.2_dp
+      character(len=:), allocatable :: refs_dir, csv_file
    end type request_type
+
+   !> A problem of the bench command as the peer harness runs it
+   type :: bench_problem_type
+      !> The harness's name
+      character(len=:), allocatable :: name
+      !> The problem, with the harness's split
+      class(test_problem_type), allocatable :: problem
+      !> Initial state, final time and output times (t_end alone, or a grid)
+      real(dp), allocatable :: u0(:), t_out(:)
+      real(dp) :: t_end = 0.0_dp
+      !> Reference solution at the output times
+      real(dp), allocatable :: reference(:, :)
+      !> Absolute tolerance fixed by the harness (0: atol = tol)
+      real(dp) :: atol = 0.0_dp
+      !> Components measured, relative or absolute, and output times up to grid_until
+      !> (0: all) in the grid error
+      integer :: first_component = 1, last_component = 0
+      logical :: relative = .false.
+      real(dp) :: grid_until = 0.0_dp
+      !> The paper's settings instead of rtol = atol = tol (vdp-paper)
+      logical :: paper = .false.
+   end type bench_problem_type
 
    !> One line of text
    type :: text_type
@@ -147,7 +181,7 @@ program taylorode_app
    case ("extreme")
       call run_extreme(request, tables, stat)
    case ("bench")
-      call run_bench(request, tables, stat)
+      call run_bench(request, stat)
    end select
    call write_tables(request, tables, write_stat)
    call finish_output()
@@ -221,6 +255,13 @@ contains
 
       request%command = "table"
       request%options = paper_options()
+      ! vdp --settings library: the library's defaults (with the paper's tolerances and
+      ! max norm), which the other options then change
+      do i = 1, size(args) - 1
+         if (args(i) == "--settings" .and. args(i + 1) == "library") then
+            request%options = integrator_options_type(rtol=0.0_dp, atol=1.0e-5_dp, norm=norm_max)
+         end if
+      end do
       request%scheme = "i-t-2"
       request%problem = "vdp"
       request%schemes = [character(len=16) :: "si-t-1", "si-t-2", "i-t-1", "i-t-2", "radau5"]
@@ -249,6 +290,12 @@ contains
       end if
       if (request%command == "sweep") request%schemes = [character(len=16) :: &
          "si-t-1", "si-t-2", "i-t-1", "i-t-2", "imex-rk21", "radau5"]
+      if (request%command == "bench") then
+         request%schemes = [character(len=16) :: "si-t-2", "i-t-2", "radau5"]
+         request%problems = [character(len=16) :: "vdp-paper", "vdp1e3_wp", "vdp1e3_up", "rober40", "rober1e11", &
+            "hires", "orego", "e5", "bruss32", "bruss512"]
+         request%tol_high = 1.0e-3_dp
+      end if
 
       do while (i <= size(args))
          arg = trim(args(i))
@@ -295,6 +342,7 @@ contains
          if (.not. parse_option(request, arg, value, stat)) return
       end do
       if (request%budget == 0) request%budget = merge(default_vdp_budget, default_budget, request%command == "vdp")
+      request%tols = [(request%tol_high/10.0_dp**i, i = 0, nint(log10(request%tol_high/request%tol_low)))]
       stat%code = status_ok
    end subroutine parse_command_line
 
@@ -367,6 +415,22 @@ contains
          case default
             call set_status(stat, status_invalid_argument, "--controller must be i, pi or pid, got "//value); return
          end select
+      case ("--estimate")
+         if (.not. allowed(request, option, ["vdp"], stat)) return
+         select case (value)
+         case ("embedded"); request%options%error_estimate = estimate_embedded
+         case ("doubling"); request%options%error_estimate = estimate_doubling
+         case default
+            call set_status(stat, status_invalid_argument, "--estimate must be embedded or doubling, got "//value)
+            return
+         end select
+      case ("--settings")
+         ! applied before the other options (parse_command_line): only checked here
+         if (.not. allowed(request, option, ["vdp"], stat)) return
+         if (value /= "paper" .and. value /= "library") then
+            call set_status(stat, status_invalid_argument, "--settings must be paper or library, got "//value)
+            return
+         end if
       case ("--h0")
          if (.not. allowed(request, option, ["vdp"], stat)) return
          if (.not. read_positive(option, value, request%options%h0, stat)) return
@@ -397,19 +461,37 @@ contains
          end if
          request%problem = value
       case ("--schemes")
-         if (.not. allowed(request, option, ["sweep"], stat)) return
-         if (.not. split_schemes(value, request%schemes, stat)) return
+         if (.not. allowed(request, option, ["sweep", "bench"], stat)) return
+         if (.not. split_names(value, scheme_names, "scheme", request%schemes, stat)) return
       case ("--tols")
-         if (.not. allowed(request, option, ["sweep"], stat)) return
+         if (.not. allowed(request, option, ["sweep", "bench"], stat)) return
          if (.not. tolerance_range(value, request%tol_high, request%tol_low, stat)) return
       case ("--grid")
          if (.not. allowed(request, option, ["stability"], stat)) return
          if (.not. read_count(option, value, 3_i8, int(max_grid, i8), "points", count, stat)) return
          request%grid = int(count)
-      case ("--max-points")
+      case ("--problems")
          if (.not. allowed(request, option, ["bench"], stat)) return
-         if (.not. read_count(option, value, 1000_i8, int(max_brusselator_points, i8), "points", count, stat)) return
-         request%max_points = int(count)
+         if (.not. split_names(value, bench_problem_names, "problem", request%problems, stat)) return
+      case ("--min-time")
+         if (.not. allowed(request, option, ["bench"], stat)) return
+         if (.not. read_positive(option, value, request%min_time, stat)) return
+         if (request%min_time > max_min_time) then
+            call set_status(stat, status_invalid_argument, "--min-time is at most "// &
+               format_fixed(max_min_time, 0)//" seconds, got "//value); return
+         end if
+      case ("--refs")
+         if (.not. allowed(request, option, ["bench"], stat)) return
+         if (.not. is_directory(value)) then
+            call set_status(stat, status_invalid_argument, "--refs: "//value//" is not a directory"); return
+         end if
+         request%refs_dir = value
+      case ("--csv")
+         if (.not. allowed(request, option, ["bench"], stat)) return
+         if (len(value) == 0) then
+            call set_status(stat, status_invalid_argument, "--csv needs a file name"); return
+         end if
+         request%csv_file = value
       end select
       ok = .true.
    end function parse_option
@@ -538,29 +620,32 @@ contains
       end if
    end function read_count
 
-   logical function split_schemes(text, names, stat)
-      character(len=*), intent(in) :: text
+   !> A comma-separated list of names, each one of `valid` (what they are: `kind`).
+   logical function split_names(text, valid, kind, names, stat)
+      character(len=*), intent(in) :: text, valid(:), kind
       character(len=16), allocatable, intent(inout) :: names(:)
       type(status_type), intent(inout) :: stat
-      integer :: start, comma
+      integer :: start, comma, finish
       character(len=16), allocatable :: parsed(:)
       allocate (parsed(0))
       start = 1
-      split_schemes = .false.
+      split_names = .false.
       do
          comma = index(text(start:), ",")
-         if (comma == 0) then
-            if (.not. known_scheme(text(start:), stat)) return
-            parsed = [character(len=16) :: parsed, text(start:)]
-            exit
+         finish = len(text)
+         if (comma > 0) finish = start + comma - 2
+         if (.not. any(valid == text(start:finish))) then
+            call set_status(stat, status_invalid_argument, "unknown "//kind//' "'//text(start:finish)//'"; '// &
+               kind//"s: "//join(valid))
+            return
          end if
-         if (.not. known_scheme(text(start:start + comma - 2), stat)) return
-         parsed = [character(len=16) :: parsed, text(start:start + comma - 2)]
+         parsed = [character(len=16) :: parsed, text(start:finish)]
+         if (comma == 0) exit
          start = start + comma
       end do
       names = parsed
-      split_schemes = .true.
-   end function split_schemes
+      split_names = .true.
+   end function split_names
 
    logical function tolerance_range(text, high, low, stat)
       character(len=*), intent(in) :: text
@@ -622,6 +707,11 @@ contains
             "  --rtol R --atol A  tolerances (default 0 and 1e-5)"//nl// &
             "  --norm max|rms     error norm (default max)"//nl// &
             "  --controller i|pi|pid  step-size controller (default i)"//nl// &
+            "  --settings paper|library  the paper's settings (default) or the library's defaults: step"//nl// &
+            "                     doubling, Newton started from an extrapolation and stopped by its estimated"//nl// &
+            "                     error, the scheme's controller; the paper's tolerances either way"//nl// &
+            "  --estimate embedded|doubling  error estimate: the embedded pair (the paper's) or step doubling"//nl// &
+            "                     (the error of the solution returned)"//nl// &
             "  --h0 H --hmax H    first and largest step (default 1e-2 and none)"//nl// &
             "  --no-reuse         factor the Newton matrix in every solve (default: keep it across steps)"//nl// &
             "  --budget N         attempted steps allowed, for the run and for its reference (default "// &
@@ -654,17 +744,27 @@ contains
             "  Van der Pol mu = 1e6, Robertson to 1e11, w = -1e12, tolerances 1e-2 and 1e-10,"//nl// &
             "  unprepared initial data and deliberately bad input; exit status 1 if any fails."//nl// &
             "  An integration passes when it ends with status ok and its global error, in the"//nl// &
-            "  integrator's weights |u - ref| / (atol + rtol |ref|), is at most 100 (order >= 2)"//nl// &
-            "  or 1e4 (first order: error per step control lets ~1e5 local errors add up)"//nl// &
+            "  integrator's weights |u - ref| / (atol + rtol |ref|), is at most the number of steps"//nl// &
+            "  (at least 100): error per step control lets that many local errors add up"//nl// &
             "  --quick       smaller cases: Van der Pol mu = 1e4, HIRES at 1e-8 instead of 1e-10"//nl// &
             "  --out DIR     also write DIR/extreme.csv"
       case ("bench")
-         text = "taylorode bench: time per step (run with --profile release)"//nl// &
-            "  Van der Pol mu = 1000 with every scheme (paper settings) and the Brusselator with"//nl// &
-            "  N = 100 ... --max-points (default 100000) on the banded path"//nl// &
-            "  --budget N    step budget of the Van der Pol runs (default "//format_count(default_budget)//")"//nl// &
-            "  --repeats N   timing runs for the median (default 5)"//nl// &
-            "  --out DIR     also write DIR/bench.csv"
+         text = "taylorode bench: work at equal accuracy beside the peer solvers (run with --profile release)"//nl// &
+            "  The peer harness's problems, split, initial data, output times and error measure;"//nl// &
+            "  rtol = atol = tol, RMS norm, the library's defaults otherwise (vdp-paper: the paper's"//nl// &
+            "  settings, tol ignored). Per run: steps, F (= f + g), Jacobian, LU and solve counts per"//nl// &
+            "  step, CPU seconds (mean of repeats until --min-time), microseconds per step, error"//nl// &
+            "  at t_end and on the output grid against the reference."//nl// &
+            "  --problems A,B,...  of "//join(bench_problem_names)//nl// &
+            "                (default vdp-paper to bruss512; bs1000 ... bs100000: Brusselator N = 1e3..1e5, t <= 0.5)"//nl// &
+            "  --schemes A,B,...   default si-t-2,i-t-2,radau5"//nl// &
+            "  --tols HIGH:LOW     tol from HIGH down to LOW by decades (default 1e-3:1e-8)"//nl// &
+            "  --min-time S  CPU seconds to accumulate per run (default 0.2)"//nl// &
+            "  --refs DIR    reference solutions DIR/<problem>.csv of the peer harness (default:"//nl// &
+            "                computed with radau5 at 1e-12)"//nl// &
+            "  --budget N    step budget per run (default "//format_count(default_budget)// &
+            "); tighter tolerances are skipped after a run reaches it"//nl// &
+            "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>)"
       case default
          text = "taylorode "//version//": one-step Taylor schemes for stiff ODEs U' = f(U) + g(U)"//nl// &
             "usage: taylorode [COMMAND] [OPTIONS]     (no command: table)"//nl// &
@@ -673,7 +773,7 @@ contains
             "  sweep      error against run time over tolerances"//nl// &
             "  stability  stability functions, S1 regions and L-stability"//nl// &
             "  extreme    stiff and extreme cases, pass/fail"//nl// &
-            "  bench      time per step and its growth with problem size"//nl// &
+            "  bench      work at equal accuracy on the peer solvers' problems"//nl// &
             "taylorode COMMAND --help (or taylorode help COMMAND) describes each command;"//nl// &
             "taylorode --version prints the version. Exit status: 0 success, 1 a run or check"//nl// &
             "failed or an output could not be written, 2 a mistake on the command line."
@@ -691,7 +791,6 @@ contains
       case ("sweep"); names = [character(len=20) :: "sweep.csv"]
       case ("stability"); names = [character(len=20) :: "stability_check.csv", "s1_regions.csv", "l_stability.csv"]
       case ("extreme"); names = [character(len=20) :: "extreme.csv"]
-      case ("bench"); names = [character(len=20) :: "bench.csv"]
       case default; allocate (names(0))
       end select
    end function table_files
@@ -706,6 +805,7 @@ contains
       integer :: k
 
       if (allocated(request%history_file)) call check_target(request%history_file, request%force, stat)
+      if (allocated(request%csv_file)) call check_target(request%csv_file, request%force, stat)
       if (stat%code /= status_ok .or. .not. allocated(request%out_dir)) return
       names = table_files(request%command)
       if (size(names) == 0) then
@@ -1273,7 +1373,7 @@ contains
       logical :: pass
       character(len=:), allocatable :: figure
       weighted = maxval(abs(u - reference)/(options%atol + options%rtol*abs(reference)))
-      bound = merge(accuracy_bound_high, accuracy_bound_first, scheme%nonlinear_order >= 2)
+      bound = max(accuracy_bound_least, real(stats%accepted_steps, dp))
       pass = run_stat%code == status_ok .and. all(ieee_is_finite(u)) .and. weighted <= bound
       if (present(extra_ok)) pass = pass .and. extra_ok
       figure = "error "//format_real(weighted, 2)//" x tolerance (bound "//format_real(bound, 1)//")"
@@ -1320,139 +1420,259 @@ contains
 
    ! ---------------------------------------------------------------- bench
 
-   !> taylorode bench: time per step of every scheme on the paper's Van der Pol run,
-   !> the saving of Newton matrix reuse, the share of LAPACK in a 2x2 Newton step, and
-   !> the growth of the time per step with N on the banded Brusselator.
-   subroutine run_bench(request, tables, stat)
+   !> taylorode bench: every scheme asked for on the problems of the peer solvers'
+   !> harness (their split, initial data, output times and error measure), rtol = atol
+   !> = tol in the RMS norm (the peers' setting) with the library's defaults otherwise,
+   !> each run repeated until --min-time CPU seconds have accumulated; the pseudo-problem
+   !> vdp-paper is the paper's Van der Pol run with the paper's settings (the per-step
+   !> cost the hand-coded floor is measured against).
+   subroutine run_bench(request, stat)
       type(request_type), intent(in) :: request
-      type(table_type), allocatable, intent(inout) :: tables(:)
       type(status_type), intent(out) :: stat
-      real(dp), parameter :: brusselator_t_end = 0.5_dp
-      type(van_der_pol_type) :: vdp
-      type(brusselator_type) :: brusselator
-      type(integrator_options_type) :: options
-      type(timed_run_type) :: run, run_no_reuse
-      real(dp) :: per_step, lapack_seconds, base_per_unknown
-      integer :: k, table, points, decade
-      character(len=:), allocatable :: name, relative
+      type(bench_problem_type) :: bench
+      type(text_type), allocatable :: csv_rows(:)
+      integer :: p, s, k, rows
+      logical :: skip_rest
 
-      table = new_table(tables, "bench.csv", "problem,scheme,unknowns,accepted,seconds,ns_per_step,"// &
-         "f_evaluations,g_evaluations,jacobian_evaluations,lu_factorizations,status,peak_memory_kib")
-      call say("Van der Pol mu = 1000, paper settings (I controller, atol 1e-5, rtol 0), t in [0, 3000];"// &
-         " CPU by cpu_time(), median of "//format_integer(request%repeats)//" runs; budget "// &
-         format_count(request%budget)//" attempts")
-      call say(pad("scheme", -13)//pad("accepted", 11)//pad("seconds", 9)//pad("ns/step", 9)// &
-         pad("f evals", 11)//pad("g evals", 11)//pad("Jac evals", 11)//pad("LU", 9)//"  note")
-      vdp = new_van_der_pol(1000.0_dp)
-      do k = 1, scheme_count
-         name = trim(scheme_names(k))
-         options = paper_options()
-         options%max_steps = request%budget
-         call progress("bench: "//name)
-         call timed_run(vdp, name, options, 0.0_dp, 3000.0_dp, vdp%u0, request%repeats, run)
-         per_step = 1.0e9_dp*run%cpu_median/real(max(run%stats%accepted_steps, 1_i8), dp)
-         call say(pad(name, -13)//pad(format_count(run%stats%accepted_steps), 11)// &
-            pad(format_fixed(run%cpu_median, 3), 9)//pad(format_fixed(per_step, 0), 9)// &
-            pad(format_count(run%stats%work%f_evaluations), 11)//pad(format_count(run%stats%work%g_evaluations), 11)// &
-            pad(format_count(run%stats%work%jac_f_evaluations + run%stats%work%jac_g_evaluations), 11)// &
-            pad(format_count(run%stats%work%lu_factorizations), 9)// &
-            choose(run%stat%code == status_max_steps, "  budget reached at t = "// &
-            format_fixed(run%stats%t_reached, 1), ""))
-         call add_bench_row(tables(table), "vdp", name, 2, run, per_step)
-         if (name == "i-t-2") then
-            lapack_seconds = lapack_time(run%stats%work%lu_factorizations, run%stats%work%linear_solves)
-            call say("  i-t-2: LAPACK (dgetrf + dgetrs on 2x2, timed apart and scaled by the counts) "// &
-               format_fixed(1.0e9_dp*lapack_seconds/real(run%stats%accepted_steps, dp), 0)//" ns/step, "// &
-               format_fixed(100.0_dp*lapack_seconds/run%cpu_median, 0)//" % of the run")
-         end if
+      allocate (csv_rows(16))
+      rows = 0
+      call say("bench: rtol = atol = tol (e5: atol 1.7e-24), RMS norm, library defaults otherwise; CPU per run "// &
+         "(mean over repeats until "//format_fixed(request%min_time, 2)//" s); per step: evaluations of F = f + g, "// &
+         "Jacobians, LU factorizations, linear solves")
+      call say(pad("problem", -10)//pad("scheme", -10)//pad("tol", 7)//"  "//pad("status", -8)//pad("steps", 10)// &
+         pad("rej", 7)//pad("F/step", 8)//pad("J/step", 8)//pad("LU/step", 8)//pad("sol/step", 9)// &
+         pad("CPU s", 10)//pad("us/step", 9)//pad("err_end", 10)//pad("err_grid", 10))
+      do p = 1, size(request%problems)
+         call make_bench_problem(trim(request%problems(p)), bench, stat)
+         if (stat%code /= status_ok) return
+         call bench_reference(request, bench, stat)
+         if (stat%code /= status_ok) return
+         do s = 1, size(request%schemes)
+            skip_rest = .false.
+            do k = 1, size(request%tols)
+               if (bench%paper .and. k > 1) exit
+               if (skip_rest) cycle
+               call bench_run(request, bench, trim(request%schemes(s)), request%tols(k), csv_rows, rows, skip_rest)
+            end do
+         end do
       end do
-
-      call say("")
-      call say("Newton matrix reuse (i-t-2, same run): kept across steps against factored in every solve")
-      options = paper_options()
-      options%max_steps = request%budget
-      call progress("bench: Newton matrix reuse")
-      call timed_run(vdp, "i-t-2", options, 0.0_dp, 3000.0_dp, vdp%u0, request%repeats, run)
-      options%reuse_newton_matrix = .false.
-      call timed_run(vdp, "i-t-2", options, 0.0_dp, 3000.0_dp, vdp%u0, request%repeats, run_no_reuse)
-      call say("  reuse on:  "//format_count(run%stats%accepted_steps)//" steps, "// &
-         format_count(run%stats%work%lu_factorizations)//" LU, "//format_fixed(run%cpu_median, 3)//" s")
-      call say("  reuse off: "//format_count(run_no_reuse%stats%accepted_steps)//" steps, "// &
-         format_count(run_no_reuse%stats%work%lu_factorizations)//" LU, "//format_fixed(run_no_reuse%cpu_median, 3)// &
-         " s; steps per LU with reuse: "//format_fixed(real(run%stats%accepted_steps, dp)/ &
-         real(max(run%stats%work%lu_factorizations, 1_i8), dp), 1))
-
-      call say("")
-      call say("Brusselator (banded Jacobians, bandwidths 2 + 2), si-t-2, rtol = atol = 1e-6, t in [0, "// &
-         format_fixed(brusselator_t_end, 1)//"]; time per step and per unknown, relative to N = 1000")
-      call say(pad("N", 8)//pad("unknowns", 10)//pad("accepted", 10)//pad("seconds", 10)// &
-         pad("us/step", 11)//pad("ns/step/unknown", 17)//pad("vs N=1000", 11)//pad("peak MiB", 10))
-      base_per_unknown = 0.0_dp
-      do decade = 2, 8
-         points = 10**decade
-         if (points > request%max_points) exit
-         brusselator = new_brusselator(points)
-         options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
-         call progress("bench: Brusselator N = "//format_integer(points))
-         call timed_run(brusselator, "si-t-2", options, 0.0_dp, brusselator_t_end, brusselator%u0, &
-            merge(request%repeats, 1, points <= 1000), run)
-         per_step = 1.0e9_dp*run%cpu_median/real(max(run%stats%accepted_steps, 1_i8), dp)
-         if (points == 1000) base_per_unknown = per_step/real(2*points, dp)
-         relative = "-"
-         if (base_per_unknown > 0.0_dp) relative = format_fixed(per_step/real(2*points, dp)/base_per_unknown, 2)
-         call say(pad(format_integer(points), 8)//pad(format_integer(2*points), 10)// &
-            pad(format_count(run%stats%accepted_steps), 10)//pad(format_fixed(run%cpu_median, 3), 10)// &
-            pad(format_fixed(per_step/1000.0_dp, 1), 11)//pad(format_fixed(per_step/real(2*points, dp), 1), 17)// &
-            pad(relative, 11)//pad(format_fixed(real(peak_memory_kib(), dp)/1024.0_dp, 1), 10))
-         call add_bench_row(tables(table), "brusselator", "si-t-2", 2*points, run, per_step)
-      end do
-      stat%code = status_ok
-
+      call say("peak memory of this process: "//format_fixed(real(peak_memory_kib(), dp)/1024.0_dp, 1)//" MiB")
+      if (allocated(request%csv_file)) call write_csv(request%csv_file, &
+         "solver,problem,tol,rtol,atol,status,steps,rejected,nfe,nfe_expl,nfe_impl,njac,nlu,nniter,cpu_s,reps,"// &
+         "err_end,err_grid", csv_rows(:rows), stat)
    end subroutine run_bench
 
-   !> One CSV row of the benchmark.
-   subroutine add_bench_row(table, problem, scheme, unknowns, run, per_step)
-      type(table_type), intent(inout) :: table
-      character(len=*), intent(in) :: problem, scheme
-      integer, intent(in) :: unknowns
-      type(timed_run_type), intent(in) :: run
-      real(dp), intent(in) :: per_step
-      call add_row(table, problem//","//scheme//","//format_integer(unknowns)//","// &
-         format_integer(run%stats%accepted_steps)//","//format_real(run%cpu_median, 4)//","// &
-         format_real(per_step, 4)//","//format_integer(run%stats%work%f_evaluations)//","// &
-         format_integer(run%stats%work%g_evaluations)//","// &
-         format_integer(run%stats%work%jac_f_evaluations + run%stats%work%jac_g_evaluations)//","// &
-         format_integer(run%stats%work%lu_factorizations)//","//choose(run%stat%code == status_ok, "ok", "stopped")// &
-         ","//format_integer(peak_memory_kib()))
-   end subroutine add_bench_row
+   !> The benchmark problem `name` as the peer harness defines it.
+   subroutine make_bench_problem(name, bench, stat)
+      character(len=*), intent(in) :: name
+      type(bench_problem_type), intent(out) :: bench
+      type(status_type), intent(out) :: stat
+      integer :: k
+      bench%name = name
+      select case (name)
+      case ("vdp-paper", "vdp1e3_wp", "vdp1e3_up")
+         allocate (bench%problem, source=new_van_der_pol(1000.0_dp, vdp_split_paper))
+         bench%u0 = van_der_pol_initial_state(merge(vdp_ic_unprepared, vdp_ic_prepared, name == "vdp1e3_up"))
+         bench%t_end = 3000.0_dp
+         bench%paper = name == "vdp-paper"
+         if (.not. bench%paper) bench%t_out = [(10.0_dp*k, k = 0, 300)]
+      case ("rober40", "rober1e11")
+         allocate (bench%problem, source=new_robertson(merge(40.0_dp, 1.0e11_dp, name == "rober40")))
+      case ("hires")
+         allocate (bench%problem, source=new_hires(hires_split_reaction_stiff))
+      case ("orego")
+         allocate (bench%problem, source=new_orego(orego_split_bilinear_stiff))
+      case ("e5")
+         allocate (bench%problem, source=new_e5())
+         bench%t_out = [(1.0e13_dp*10.0_dp**(k - 14), k = 1, 14)]
+         bench%atol = 1.7e-24_dp
+         bench%first_component = 2
+         bench%last_component = 3
+         bench%relative = .true.
+         bench%grid_until = 1.0e8_dp
+      case ("bruss32", "bruss512")
+         allocate (bench%problem, source=new_brusselator(merge(32, 512, name == "bruss32")))
+      case ("bs1000", "bs10000", "bs100000")
+         allocate (bench%problem, source=new_brusselator(merge(1000, merge(10000, 100000, name == "bs10000"), &
+            name == "bs1000")))
+         bench%t_end = 0.5_dp
+      case default
+         call set_status(stat, status_invalid_argument, 'unknown bench problem "'//name//'"; problems: '// &
+            join(bench_problem_names))
+         return
+      end select
+      if (.not. allocated(bench%u0)) bench%u0 = bench%problem%u0
+      if (bench%t_end == 0.0_dp) bench%t_end = bench%problem%t_end
+      if (.not. allocated(bench%t_out)) bench%t_out = [bench%t_end]
+      bench%t_out(size(bench%t_out)) = bench%t_end
+      if (bench%last_component == 0) bench%last_component = size(bench%u0)
+      stat%code = status_ok
+   end subroutine make_bench_problem
 
-   !> Seconds that `factorizations` dgetrf and `solves` dgetrs calls on a 2x2 Newton
-   !> matrix take, timed in a loop of their own.
-   real(dp) function lapack_time(factorizations, solves)
-      integer(i8), intent(in) :: factorizations, solves
-      integer, parameter :: calls = 2000000
-      real(dp) :: a(2, 2), lu(2, 2), b(2), start, finish, per_factor, per_solve
-      integer :: pivots(2), info, k
+   !> The reference solution at the output times: the harness's file DIR/<name>.csv
+   !> (--refs), else radau5 at rtol = 1e-12.
+   subroutine bench_reference(request, bench, stat)
+      type(request_type), intent(in) :: request
+      type(bench_problem_type), intent(inout) :: bench
+      type(status_type), intent(out) :: stat
+      real(dp), allocatable :: u_end(:)
+      integer :: unit, io_status, row
+      character(len=:), allocatable :: path
+      real(dp) :: t_row
 
-      a = reshape([1.0_dp, -2.0e3_dp, 1.0e-2_dp, 3.0e3_dp], [2, 2])
-      call cpu_time(start)
-      do k = 1, calls
-         lu = a
-         lu(1, 1) = lu(1, 1) + 1.0e-12_dp*k
-         call lu_factor(lu, pivots, info)
+      allocate (bench%reference(size(bench%u0), size(bench%t_out)), u_end(size(bench%u0)))
+      if (allocated(request%refs_dir)) then
+         path = request%refs_dir//"/"//bench%name//".csv"
+         open (newunit=unit, file=path, status="old", action="read", iostat=io_status)
+         if (io_status == 0) then
+            read (unit, *, iostat=io_status)
+            do row = 1, size(bench%t_out)
+               if (io_status /= 0) exit
+               read (unit, *, iostat=io_status) t_row, bench%reference(:, row)
+            end do
+            close (unit)
+            if (io_status == 0) then
+               stat%code = status_ok
+               return
+            end if
+            call progress("bench: "//path//" does not hold the reference of "//bench%name//"; computing one")
+         end if
+      end if
+      call progress("bench: reference solution of "//bench%name//" (radau5 at 1e-12)")
+      call reference_run(bench%problem, 0.0_dp, bench%t_end, bench%u0, bench%t_out, u_end, bench%reference, stat)
+      if (stat%code /= status_ok) stat%message = "bench: the reference run of "//bench%name//" failed: "//stat%message
+   end subroutine bench_reference
+
+   !> One problem, scheme and tolerance: repeated runs, one line and one CSV row.
+   subroutine bench_run(request, bench, scheme_name, tol, csv_rows, rows, budget_reached)
+      type(request_type), intent(in) :: request
+      type(bench_problem_type), intent(inout) :: bench
+      character(len=*), intent(in) :: scheme_name
+      real(dp), intent(in) :: tol
+      type(text_type), allocatable, intent(inout) :: csv_rows(:)
+      integer, intent(inout) :: rows
+      logical, intent(out) :: budget_reached
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: run_stat
+      real(dp), allocatable :: u(:), u_out(:, :)
+      real(dp) :: cpu, err_end, err_grid, steps
+      integer :: reps, k
+      character(len=:), allocatable :: status_text, tol_text
+
+      if (bench%paper) then
+         options = paper_options()
+         tol_text = "paper"
+      else
+         options = integrator_options_type(rtol=tol, atol=tol, norm=norm_rms)
+         if (bench%atol > 0.0_dp) options%atol = bench%atol
+         tol_text = format_real(tol, 1)
+      end if
+      options%max_steps = request%budget
+      call new_scheme(scheme_name, scheme, run_stat)
+      allocate (u(size(bench%u0)), u_out(size(bench%u0), size(bench%t_out)))
+      call progress("bench: "//bench%name//" "//scheme_name//" "//tol_text)
+      cpu = 0.0_dp
+      reps = 0
+      do
+         u = bench%u0
+         if (size(bench%t_out) > 1) then
+            call integrate(bench%problem, scheme, 0.0_dp, bench%t_end, u, options, stats, run_stat, &
+               t_out=bench%t_out, u_out=u_out)
+         else
+            ! no dense output to pay for when t_end is the only output time
+            call integrate(bench%problem, scheme, 0.0_dp, bench%t_end, u, options, stats, run_stat)
+            u_out(:, 1) = u
+         end if
+         cpu = cpu + stats%cpu_seconds
+         reps = reps + 1
+         if (run_stat%code /= status_ok .or. cpu >= request%min_time) exit
       end do
-      if (info /= 0) lu = a
-      call cpu_time(finish)
-      per_factor = (finish - start)/calls
-      call cpu_time(start)
-      do k = 1, calls
-         b = [1.0_dp, 2.0e-3_dp*k]
-         call lu_solve(lu, pivots, b, info)
+      budget_reached = run_stat%code == status_max_steps
+      err_end = ieee_value(1.0_dp, ieee_quiet_nan)
+      err_grid = err_end
+      if (run_stat%code == status_ok) then
+         status_text = "ok"
+         err_end = bench_error(bench, u_out(:, size(bench%t_out)), bench%reference(:, size(bench%t_out)))
+         if (size(bench%t_out) > 1) then
+            err_grid = 0.0_dp
+            do k = 1, size(bench%t_out)
+               if (bench%grid_until > 0.0_dp .and. bench%t_out(k) > bench%grid_until) cycle
+               err_grid = max(err_grid, bench_error(bench, u_out(:, k), bench%reference(:, k)))
+            end do
+         end if
+      else if (budget_reached) then
+         status_text = "budget(t="//format_real(stats%t_reached, 2)//")"
+      else
+         status_text = "fail("//status_word(run_stat%code)//")"
+      end if
+      steps = real(max(stats%accepted_steps, 1_i8), dp)
+      associate (work => stats%work)
+         call say(pad(bench%name, -10)//pad(scheme_name, -10)//pad(tol_text, 7)//"  "//pad(status_text, -8)// &
+            pad(format_count(stats%accepted_steps), 10)//pad(format_count(stats%rejected_steps()), 7)// &
+            pad(format_fixed(real(max(work%f_evaluations, work%g_evaluations), dp)/steps, 2), 8)// &
+            pad(format_fixed(real(max(work%jac_f_evaluations, work%jac_g_evaluations), dp)/steps, 2), 8)// &
+            pad(format_fixed(real(work%lu_factorizations, dp)/steps, 2), 8)// &
+            pad(format_fixed(real(work%linear_solves, dp)/steps, 2), 9)// &
+            pad(format_real(cpu/reps, 3), 10)//pad(format_fixed(1.0e6_dp*cpu/reps/steps, 3), 9)// &
+            pad(error_text(err_end), 10)//pad(choose(size(bench%t_out) > 1, error_text(err_grid), "-"), 10))
+         if (rows == size(csv_rows)) csv_rows = [csv_rows, csv_rows]
+         rows = rows + 1
+         csv_rows(rows)%text = "taylorode_"//scheme_name//","//bench%name//","//tol_text//","// &
+            format_real(options%rtol, 6)//","//format_real(options%atol, 6)//","//status_text//","// &
+            format_integer(stats%accepted_steps)//","//format_integer(stats%rejected_steps())//","// &
+            format_integer(max(work%f_evaluations, work%g_evaluations))//","// &
+            format_integer(work%f_evaluations)//","//format_integer(work%g_evaluations)//","// &
+            format_integer(max(work%jac_f_evaluations, work%jac_g_evaluations))//","// &
+            format_integer(work%lu_factorizations)//","//format_integer(work%newton_iterations)//","// &
+            format_real(cpu/reps, 6)//","//format_integer(reps)//","//csv_number(err_end)//","// &
+            choose(size(bench%t_out) > 1, csv_number(err_grid), "")
+      end associate
+   end subroutine bench_run
+
+   !> The harness's error of one output row: the largest |u_i - ref_i| (relative to
+   !> |ref_i| for e5) over the measured components.
+   pure real(dp) function bench_error(bench, u, reference)
+      type(bench_problem_type), intent(in) :: bench
+      real(dp), intent(in) :: u(:), reference(:)
+      integer :: i
+      real(dp) :: difference
+      bench_error = 0.0_dp
+      do i = bench%first_component, bench%last_component
+         difference = abs(u(i) - reference(i))
+         if (bench%relative) difference = difference/abs(reference(i))
+         if (.not. (difference <= bench_error)) bench_error = difference
       end do
-      call cpu_time(finish)
-      per_solve = (finish - start)/calls
-      lapack_time = per_factor*real(factorizations, dp) + per_solve*real(solves, dp)
-   end function lapack_time
+   end function bench_error
+
+   !> A number for the CSV file ("nan" when it is not finite).
+   pure function csv_number(x) result(text)
+      real(dp), intent(in) :: x
+      character(len=:), allocatable :: text
+      if (ieee_is_finite(x)) then
+         text = format_real(x, 6)
+      else
+         text = "nan"
+      end if
+   end function csv_number
+
+   !> Write a CSV file (header and rows) in one piece.
+   subroutine write_csv(path, header, rows, stat)
+      character(len=*), intent(in) :: path, header
+      type(text_type), intent(in) :: rows(:)
+      type(status_type), intent(out) :: stat
+      type(text_file_type) :: file
+      integer :: r
+      call file%open(path, stat)
+      if (stat%code /= status_ok) return
+      call file%write_line(header)
+      do r = 1, size(rows)
+         call file%write_line(rows(r)%text)
+      end do
+      call file%commit(stat)
+      if (stat%code == status_ok) call say("wrote "//path)
+   end subroutine write_csv
 
    !> Peak resident memory of this process in KiB (VmHWM of /proc/self/status; 0 when it
    !> cannot be read).

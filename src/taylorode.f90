@@ -33,7 +33,8 @@ module taylorode
    use taylorode_integrate_fixed_step, only: integrate_fixed
    use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, controller_name
    use taylorode_integrate_options, only: integrator_options_type, paper_options, norm_max, norm_rms, &
-      advance_scheme, advance_high, advance_low, error_weight_type, validate_options
+      advance_scheme, advance_high, advance_low, error_weight_type, validate_options, &
+      estimate_auto, estimate_embedded, estimate_doubling
    use taylorode_integrate_history, only: step_history_type, write_history_csv, attempt_accepted, &
       attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, &
       attempt_name
@@ -57,6 +58,7 @@ module taylorode
    public :: accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling, event_any
    public :: controller_i, controller_pi, controller_pid, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low, error_weight_type, validate_options
+   public :: estimate_auto, estimate_embedded, estimate_doubling
    public :: step_history_type, write_history_csv, attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, attempt_name
 

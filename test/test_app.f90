@@ -3,6 +3,7 @@
 !> terminal report and CSV files on small problem sizes.
 module test_app
    use testdrive, only: new_unittest, unittest_type, error_type, check
+   use taylorode_base_kinds, only: dp
    use test_support, only: scratch, line_type, run_type, run_app, read_lines, has_line, count_separators, &
       file_exists, fresh_scratch
    implicit none
@@ -121,7 +122,11 @@ contains
       if (allocated(error)) return
       call expect("stability --grid 2", "at least 3")
       if (allocated(error)) return
-      call expect("bench --max-points 10", "at least 1000")
+      call expect("bench --problems vdp,lorenz", "unknown problem")
+      if (allocated(error)) return
+      call expect("bench --min-time 0", "--min-time must be positive")
+      if (allocated(error)) return
+      call expect("bench --refs /nonexistent", "not a directory")
       if (allocated(error)) return
       call expect("vdp --full", "does not apply to vdp")
    contains
@@ -277,27 +282,64 @@ contains
       call check(error, has_line(run%stdout, "ok   i-t-2 vdp mu=1E+04"), "Van der Pol line")
    end subroutine test_extreme_report
 
-   !> The benchmark on a small budget: one row per scheme and per Brusselator size,
-   !> the reuse comparison and the LAPACK share.
+   !> The benchmark on two problems and two schemes: one line and one CSV row (the peer
+   !> harness's 18 columns) per run, the paper's run once per scheme, every run ok and
+   !> within 100 x tol of the reference (Robertson's error in the harness's measure).
    subroutine test_bench_report(error)
       type(error_type), allocatable, intent(out) :: error
       type(run_type) :: run
       type(line_type), allocatable :: table(:)
       integer :: k
       call fresh_scratch()
-      call run_app("bench --budget 20000 --max-points 1000 --repeats 1 --out "//scratch//"/out", run)
+      call run_app("bench --problems vdp-paper,rober40 --schemes i-t-2,radau5 --tols 1e-4:1e-5 --min-time 0.001 "// &
+         "--csv "//scratch//"/bench.csv", run)
       call check(error, run%exit_status, 0, "bench run")
       if (allocated(error)) return
-      call read_lines(scratch//"/out/bench.csv", table)
-      call check(error, size(table) - 1, 9 + 2, "nine schemes and two Brusselator sizes")
+      call read_lines(scratch//"/bench.csv", table)
+      call check(error, size(table) - 1, 2 + 2*2, "rows: vdp-paper per scheme, rober40 per scheme and tolerance")
+      if (allocated(error)) return
+      call check(error, table(1)%text, "solver,problem,tol,rtol,atol,status,steps,rejected,nfe,nfe_expl,nfe_impl,"// &
+         "njac,nlu,nniter,cpu_s,reps,err_end,err_grid", "the harness's header")
       if (allocated(error)) return
       do k = 2, size(table)
-         call check(error, count_separators(table(k)%text), 11, "CSV columns")
+         call check(error, count_separators(table(k)%text), 17, "CSV columns")
+         if (allocated(error)) return
+         call check(error, index(table(k)%text, ",ok,") > 0, "run status: "//table(k)%text)
          if (allocated(error)) return
       end do
-      call check(error, has_line(run%stdout, "reuse off:") .and. has_line(run%stdout, "% of the run") .and. &
-         has_line(run%stdout, "budget reached"), "bench sections")
+      call check(error, has_line(run%stdout, "vdp-paper i-t-2       paper  ok         125,748"), &
+         "the paper's run keeps its 125,748 steps")
+      if (allocated(error)) return
+      do k = 4, size(table)
+         call check(error, csv_field(table(k)%text, 17) < 100.0_dp*csv_field(table(k)%text, 4), &
+            "error at t_end: "//table(k)%text)
+         if (allocated(error)) return
+      end do
    end subroutine test_bench_report
+
+   !> Field k (1-based) of a CSV row, read as a number.
+   real(dp) function csv_field(row, k)
+      character(len=*), intent(in) :: row
+      integer, intent(in) :: k
+      integer :: i, start, field, io_status
+      start = 1
+      field = 1
+      csv_field = -1.0_dp
+      do i = 1, len(row) + 1
+         if (i > len(row)) then
+            if (field == k) read (row(start:), *, iostat=io_status) csv_field
+            return
+         end if
+         if (row(i:i) == ",") then
+            if (field == k) then
+               read (row(start:i - 1), *, iostat=io_status) csv_field
+               return
+            end if
+            field = field + 1
+            start = i + 1
+         end if
+      end do
+   end function csv_field
 
    !> Files are written only where asked for and never overwritten without --force.
    subroutine test_output_files(error)

@@ -683,7 +683,7 @@ contains
       if (allocated(error)) return
       call expect_status("stability --grid 100000", 2, "at most")
       if (allocated(error)) return
-      call expect_status("bench --max-points 999999999", 2, "at most")
+      call expect_status("bench --min-time 999999", 2, "at most")
       if (allocated(error)) return
       call expect_status("sweep --budget 99999999999999", 2, "at most")
       if (allocated(error)) return

@@ -9,8 +9,8 @@ module taylorode_testset
       vdp_split_paper, vdp_split_stiff, vdp_ic_prepared, vdp_ic_unprepared
    use taylorode_testset_linear_test, only: linear_test_type, new_linear_test
    use taylorode_testset_robertson, only: robertson_type, new_robertson
-   use taylorode_testset_hires, only: hires_type, new_hires
-   use taylorode_testset_orego, only: orego_type, new_orego
+   use taylorode_testset_hires, only: hires_type, new_hires, hires_split_exchange_stiff, hires_split_reaction_stiff
+   use taylorode_testset_orego, only: orego_type, new_orego, orego_split_fast_stiff, orego_split_bilinear_stiff
    use taylorode_testset_e5, only: e5_type, new_e5
    use taylorode_testset_brusselator, only: brusselator_type, new_brusselator
    use taylorode_testset_prothero_robinson, only: prothero_robinson_type, new_prothero_robinson
@@ -24,6 +24,8 @@ module taylorode_testset
    public :: linear_test_type, new_linear_test
    public :: robertson_type, new_robertson, hires_type, new_hires, orego_type, new_orego, e5_type, &
       new_e5, brusselator_type, new_brusselator, prothero_robinson_type, new_prothero_robinson
+   public :: hires_split_exchange_stiff, hires_split_reaction_stiff, orego_split_fast_stiff, &
+      orego_split_bilinear_stiff
    public :: new_test_problem, test_problem_names, test_problem_count
 
 end module taylorode_testset

@@ -5,7 +5,7 @@ module taylorode_base_counters
    implicit none
    private
 
-   public :: counters_type
+   public :: counters_type, operator(+), operator(-)
 
    !> Work done, accumulated over all steps of a scheme
    type :: counters_type
@@ -24,5 +24,45 @@ module taylorode_base_counters
       !> Newton iterations over all nonlinear systems
       integer(i8) :: newton_iterations = 0
    end type counters_type
+
+   !> Sum of two sets of counters, component by component
+   interface operator(+)
+      module procedure add_counters
+   end interface operator(+)
+
+   !> Difference of two sets of counters (the work done between two readings)
+   interface operator(-)
+      module procedure subtract_counters
+   end interface operator(-)
+
+contains
+
+   !> a + b, component by component.
+   elemental function add_counters(a, b) result(total)
+      !> The two sets
+      type(counters_type), intent(in) :: a, b
+      type(counters_type) :: total
+      total%f_evaluations = a%f_evaluations + b%f_evaluations
+      total%g_evaluations = a%g_evaluations + b%g_evaluations
+      total%jac_f_evaluations = a%jac_f_evaluations + b%jac_f_evaluations
+      total%jac_g_evaluations = a%jac_g_evaluations + b%jac_g_evaluations
+      total%lu_factorizations = a%lu_factorizations + b%lu_factorizations
+      total%linear_solves = a%linear_solves + b%linear_solves
+      total%newton_iterations = a%newton_iterations + b%newton_iterations
+   end function add_counters
+
+   !> a - b, component by component.
+   elemental function subtract_counters(a, b) result(difference)
+      !> The later and the earlier reading
+      type(counters_type), intent(in) :: a, b
+      type(counters_type) :: difference
+      difference%f_evaluations = a%f_evaluations - b%f_evaluations
+      difference%g_evaluations = a%g_evaluations - b%g_evaluations
+      difference%jac_f_evaluations = a%jac_f_evaluations - b%jac_f_evaluations
+      difference%jac_g_evaluations = a%jac_g_evaluations - b%jac_g_evaluations
+      difference%lu_factorizations = a%lu_factorizations - b%lu_factorizations
+      difference%linear_solves = a%linear_solves - b%linear_solves
+      difference%newton_iterations = a%newton_iterations - b%newton_iterations
+   end function subtract_counters
 
 end module taylorode_base_counters

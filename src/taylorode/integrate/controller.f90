@@ -73,6 +73,11 @@ contains
          factor = kappa/sqrt(sqrt(e0))
          return
       end if
+      if (controller == controller_i .and. q == 2.0_dp) then
+         ! err^(-1/2) as a square root (the paper's setting; a fifth of the cost of a power)
+         factor = kappa/sqrt(e0)
+         return
+      end if
       ! a zero gain contributes the factor 1 exactly: its power is not computed
       factor = kappa*e0**(-gains(1, controller)/q)
       if (gains(2, controller) /= 0.0_dp) factor = factor*e1**(gains(2, controller)/q)

@@ -48,6 +48,9 @@ module taylorode_integrate_events
       real(dp), allocatable, private :: values_start(:), values_end(:), values_probe(:), u_probe(:)
       !> Crossing times inside the current step, and which functions crossed
       real(dp), allocatable, private :: crossing_t(:)
+      !> Where in the current step (fraction of h) each function's bracket starts: 0,
+      !> or just after a start exactly at a root (the root of the last terminal stop)
+      real(dp), allocatable, private :: theta_start(:)
       logical, allocatable, private :: crossed(:)
    contains
       !> Values of every event function at (t, u)
@@ -110,12 +113,13 @@ contains
       if (allocated(self%values_start)) then
          if (size(self%values_start) /= self%count .or. size(self%u_probe) /= size(u)) then
             deallocate (self%values_start, self%values_end, self%values_probe, self%u_probe, self%crossing_t, &
-               self%crossed)
+               self%crossed, self%theta_start)
          end if
       end if
       if (.not. allocated(self%values_start)) then
          allocate (self%values_start(self%count), self%values_end(self%count), self%values_probe(self%count), &
-            self%u_probe(size(u)), self%crossing_t(self%count), self%crossed(self%count))
+            self%u_probe(size(u)), self%crossing_t(self%count), self%crossed(self%count), &
+            self%theta_start(self%count))
       end if
       previous_stop = self%stopped_by
       self%stopped_by = 0
@@ -166,6 +170,7 @@ contains
          call set_status(stat, status_nonfinite, "events: an event function is NaN or Inf")
          return
       end if
+      call leave_roots(self, step)
       do i = 1, self%count
          self%crossed(i) = crosses(self%values_start(i), self%values_end(i), self%direction(i))
          if (self%crossed(i)) self%crossing_t(i) = locate(self, step, i)
@@ -198,6 +203,32 @@ contains
       end if
    end subroutine check_step
 
+   !> A function exactly zero at the start of the step (where the last terminal stop
+   !> found its root) takes its sign from just inside the step (a probe 1e-8 of the
+   !> step in, on the interpolant), so that a crossing later in the same step (a ball
+   !> that rises from the ground and falls back within one step) is found and the
+   !> root at the start is not found again.
+   subroutine leave_roots(self, step)
+      class(event_functions_type), intent(inout) :: self
+      type(accepted_step_type), intent(in) :: step
+      real(dp), parameter :: probe_fraction = 1.0e-8_dp
+      logical :: probed
+      integer :: i
+      self%theta_start = 0.0_dp
+      probed = .false.
+      do i = 1, self%count
+         if (self%values_start(i) /= 0.0_dp) cycle
+         if (.not. probed) then
+            call step%interpolate(step%t_start + probe_fraction*step%h, self%u_probe)
+            call self%evaluate(step%t_start + probe_fraction*step%h, self%u_probe, self%values_probe)
+            probed = .true.
+         end if
+         if (.not. ieee_is_finite(self%values_probe(i))) cycle
+         self%values_start(i) = self%values_probe(i)
+         self%theta_start(i) = probe_fraction
+      end do
+   end subroutine leave_roots
+
    !> Whether the value goes from a to b across zero in the wanted direction (a
    !> start exactly at zero was found at the previous step's end).
    pure logical function crosses(a, b, direction)
@@ -217,7 +248,7 @@ contains
       real(dp) :: theta_a, theta_b, value_a, value_b, theta, value, accuracy
       integer :: iteration, side
 
-      theta_a = 0.0_dp
+      theta_a = self%theta_start(i)
       theta_b = 1.0_dp
       value_a = self%values_start(i)
       value_b = self%values_end(i)

@@ -9,7 +9,7 @@ module taylorode_integrate_integrator
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
       status_output_error, status_description
-   use taylorode_base_counters, only: counters_type
+   use taylorode_base_counters, only: counters_type, operator(+), operator(-)
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs
    use taylorode_integrate_options, only: integrator_options_type, validate_options
@@ -279,6 +279,7 @@ contains
       end if
       next_output = 1
       if (present(t_out)) call emit_outputs_up_to(t)
+      call self%stepper%continue_from(u)
 
       h = self%h
       h_natural = h
@@ -309,6 +310,8 @@ contains
 
          select case (outcome)
          case (attempt_accepted)
+            ! the first step after a failed attempt does not grow h again at once
+            if (failures > 0) h_next = min(h_next, h)
             failures = 0
             if (t + h > trouble_end) troubles = 0
             call record_attempt(err, outcome, newton_before, self%stepper%u_new)
@@ -514,31 +517,20 @@ contains
    pure subroutine add_work(stats, counters, before)
       type(integration_stats_type), intent(inout) :: stats
       type(counters_type), intent(in) :: counters, before
-      stats%work%f_evaluations = stats%work%f_evaluations + counters%f_evaluations - before%f_evaluations
-      stats%work%g_evaluations = stats%work%g_evaluations + counters%g_evaluations - before%g_evaluations
-      stats%work%jac_f_evaluations = stats%work%jac_f_evaluations + counters%jac_f_evaluations - &
-         before%jac_f_evaluations
-      stats%work%jac_g_evaluations = stats%work%jac_g_evaluations + counters%jac_g_evaluations - &
-         before%jac_g_evaluations
-      stats%work%lu_factorizations = stats%work%lu_factorizations + counters%lu_factorizations - &
-         before%lu_factorizations
-      stats%work%linear_solves = stats%work%linear_solves + counters%linear_solves - before%linear_solves
-      stats%work%newton_iterations = stats%work%newton_iterations + counters%newton_iterations - &
-         before%newton_iterations
+      stats%work = stats%work + (counters - before)
    end subroutine add_work
 
    !> Running totals: total += one call.
    pure subroutine accumulate(total, call_stats)
       type(integration_stats_type), intent(inout) :: total
       type(integration_stats_type), intent(in) :: call_stats
-      type(counters_type) :: none
       total%t_reached = call_stats%t_reached
       total%accepted_steps = total%accepted_steps + call_stats%accepted_steps
       total%rejected_error = total%rejected_error + call_stats%rejected_error
       total%rejected_newton = total%rejected_newton + call_stats%rejected_newton
       total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
       total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation
-      call add_work(total, call_stats%work, none)
+      total%work = total%work + call_stats%work
       if (call_stats%accepted_steps > 0) then
          total%h_min_accepted = min(total%h_min_accepted, call_stats%h_min_accepted)
          total%h_max_accepted = max(total%h_max_accepted, call_stats%h_max_accepted)

@@ -11,6 +11,7 @@ module taylorode_integrate_options
 
    public :: integrator_options_type, paper_options, validate_options, error_weight_type
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
+   public :: estimate_auto, estimate_embedded, estimate_doubling
 
    !> err = max_i |delta_i| / w_i (the paper's)
    integer, parameter :: norm_max = 1
@@ -22,6 +23,16 @@ module taylorode_integrate_options
    integer, parameter :: advance_high = 1
    !> Advance with the lower-order member of the embedded pair
    integer, parameter :: advance_low = 2
+   !> Step doubling, except for a scheme whose embedded pair estimates the error of
+   !> the solution it returns (radau5), which uses its pair
+   integer, parameter :: estimate_auto = 0
+   !> The difference of the embedded pair (the paper's): for the Taylor pairs it
+   !> estimates the error of the lower-order member
+   integer, parameter :: estimate_embedded = 1
+   !> Step doubling (Richardson): two steps of h/2 advance the solution, one step of
+   !> h beside them, err = |U_{h/2,h/2} - U_h| / (2^p - 1) estimates the error of the
+   !> solution returned (p: the scheme's order on nonlinear problems)
+   integer, parameter :: estimate_doubling = 2
    !> Largest controller exponent q accepted
    real(dp), parameter :: max_q = 20.0_dp
 
@@ -66,8 +77,10 @@ module taylorode_integrate_options
       integer :: controller = controller_auto
       !> Safety factor kappa in (0, 1]
       real(dp) :: kappa = default_kappa
-      !> Order exponent q of the controller, in [1, 20]; 0 takes it from the scheme pair
-      !> (lower order + 1, which is 2 for every pair here)
+      !> Error estimate: estimate_auto, estimate_embedded or estimate_doubling
+      integer :: error_estimate = estimate_auto
+      !> Order exponent q of the controller, in [1, 20]; 0 takes it from the estimate
+      !> (step doubling: the scheme's order + 1; embedded pair: lower order + 1)
       real(dp) :: q = 0.0_dp
       !> First step size; 0 chooses it from the initial data (h0 = 0.01 |U0|_w / |F(U0)|_w)
       real(dp) :: h0 = 0.0_dp
@@ -86,12 +99,20 @@ module taylorode_integrate_options
       !> Keep factored Newton matrices across steps while h changes by at most 20 %
       !> and Newton contracts fast (0.1 or better); off: one factorization per solve
       logical :: reuse_newton_matrix = .true.
-      !> Newton stops when every increment is below this fraction of its weight w_i;
-      !> 0 lets the scheme choose (1e-4; radau5: Hairer's FNEWT from rtol)
+      !> Newton stops when its error is below this fraction of the weights w_i; 0 lets
+      !> the scheme choose (Hairer's FNEWT = max(10 eps / rtol, min(0.03, sqrt(rtol)));
+      !> with the paper's Newton test 1e-4)
       real(dp) :: newton_fraction = 0.0_dp
+      !> Newton's stop test estimates the error left from the contraction (RADAU5's
+      !> test); off: the last increment must be below the tolerance (the paper's)
+      logical :: newton_error_estimate = .true.
+      !> Start Newton's method from the extrapolation of the last accepted step (the
+      !> line through its two states); off: from the state at the start of the step
+      logical :: extrapolate_newton_start = .true.
       !> Consecutive failed attempts (Newton failure, NaN/Inf values) before giving up
       integer :: max_failures = 10
-      !> advance_scheme, advance_high or advance_low
+      !> advance_scheme, advance_high or advance_low (with the embedded estimate; auto
+      !> then means embedded)
       integer :: advance = advance_scheme
       !> With a step history: also record the state after every attempt
       logical :: history_states = .false.
@@ -101,8 +122,9 @@ contains
 
    !> The settings of the paper's Van der Pol experiment (METHODS.md section 5):
    !> rtol 0, atol 1e-5, max norm, I controller, kappa 0.9, h0 1e-2, no h_max and no
-   !> growth or shrink limits. q is left to the scheme pair: 2 for every pair of the
-   !> paper (its setting), 4 for radau5.
+   !> growth or shrink limits, the embedded pair's error estimate, Newton started from
+   !> the state at the start of the step and stopped by its last increment. q is left to the scheme pair: 2 for
+   !> every pair of the paper (its setting), 4 for radau5.
    pure function paper_options() result(options)
       type(integrator_options_type) :: options
       options%rtol = 0.0_dp
@@ -115,6 +137,9 @@ contains
       options%max_growth = 0.0_dp
       options%min_shrink = 0.0_dp
       options%max_steps = 100000000_i8
+      options%error_estimate = estimate_embedded
+      options%extrapolate_newton_start = .false.
+      options%newton_error_estimate = .false.
    end function paper_options
 
    !> Check every option for a system of n unknowns; stat says which one is wrong.
@@ -219,6 +244,13 @@ contains
       end if
       if (all(options%advance /= [advance_scheme, advance_high, advance_low])) then
          call invalid("advance must be advance_scheme, advance_high or advance_low"); return
+      end if
+      if (all(options%error_estimate /= [estimate_auto, estimate_embedded, estimate_doubling])) then
+         call invalid("error_estimate must be estimate_auto, estimate_embedded or estimate_doubling"); return
+      end if
+      if (options%error_estimate == estimate_doubling .and. options%advance /= advance_scheme) then
+         call invalid("advance_high and advance_low choose a member of the embedded pair: they need "// &
+            "error_estimate = estimate_embedded (or estimate_auto)"); return
       end if
       stat%code = status_ok
    contains

@@ -2,6 +2,12 @@
 !> error estimate in the weighted norm, the decision (accept, reject, failed) and
 !> the controller's next step size.
 !>
+!> Error estimates: the embedded pair's difference, or step doubling (two steps of
+!> h/2 advance the solution, one step of h taken by a second copy of the scheme,
+!> which keeps its own factored Newton matrices, gives the Richardson estimate).
+!> Newton's method starts from the line through the last accepted step's two
+!> states, extended to the end of the new step (or of each half step).
+!>
 !> Error weights: w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|), never below
 !> `roundoff_weight` times |U_i| (what double precision can resolve); a component
 !> with atol_i = 0 that is zero is weighed against the size of the whole state (at
@@ -10,10 +16,12 @@ module taylorode_integrate_stepper
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite, &
       status_evaluation_failed
+   use taylorode_base_counters, only: counters_type, operator(+)
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type
-   use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_high, advance_low
+   use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_scheme, advance_high, &
+      advance_low, estimate_auto, estimate_embedded, estimate_doubling
    use taylorode_integrate_controller, only: controller_factor, controller_auto, controller_i, &
       controller_predictive, predictive_factor
    use taylorode_integrate_history, only: attempt_accepted, attempt_rejected_error, &
@@ -54,6 +62,22 @@ module taylorode_integrate_stepper
       real(dp) :: newton_fraction = 0.0_dp
       !> Size of the previous accepted step (0 when there is none)
       real(dp) :: h_previous = 0.0_dp
+      !> The error estimate in use (estimate_embedded or estimate_doubling)
+      integer :: estimate = estimate_embedded
+      !> Step doubling: 1 / (2^p - 1), the Richardson factor of the difference
+      real(dp) :: richardson = 1.0_dp
+      !> Step doubling: the copy of the scheme that takes the single step of size h
+      class(scheme_type), allocatable :: whole_step
+      !> Step doubling: the state after the first half step, and after the whole step
+      real(dp), allocatable :: u_half(:), u_whole(:)
+      !> Start of the last accepted step, its middle (step doubling) and its end (the
+      !> state the next step starts from, unless the caller changed it), for the Newton
+      !> starting guess
+      real(dp), allocatable :: u_step_start(:), u_step_middle(:), u_step_end(:)
+      !> Newton starting guess
+      real(dp), allocatable :: guess(:)
+      !> Whether Newton starts from an extrapolation, and whether one is possible now
+      logical :: extrapolate = .false., extrapolation_ready = .false.
    contains
       !> Prepare for an integration of n unknowns with a scheme and options
       procedure :: start
@@ -63,6 +87,10 @@ module taylorode_integrate_stepper
       procedure :: weighted_norm
       !> One attempt from (t, u) with step h
       procedure :: attempt
+      !> Forget the last accepted step when the state no longer continues it
+      procedure :: continue_from
+      !> Newton starting guess extrapolated from the last accepted step
+      procedure :: extrapolate_to
    end type stepper_type
 
 contains
@@ -81,15 +109,39 @@ contains
       !> The options (validated)
       type(integrator_options_type), intent(in) :: options
       if (allocated(self%u_new)) then
-         if (size(self%u_new) /= n) deallocate (self%u_new, self%delta, self%weights, self%newton%tolerance)
+         if (size(self%u_new) /= n) deallocate (self%u_new, self%delta, self%weights, self%newton%tolerance, &
+            self%u_half, self%u_whole, self%u_step_start, self%u_step_middle, self%u_step_end, self%guess)
       end if
       if (.not. allocated(self%u_new)) then
-         allocate (self%u_new(n), self%delta(n), self%weights(n), self%newton%tolerance(n))
+         allocate (self%u_new(n), self%delta(n), self%weights(n), self%newton%tolerance(n), self%u_half(n), &
+            self%u_whole(n), self%u_step_start(n), self%u_step_middle(n), self%u_step_end(n), self%guess(n))
       end if
       self%newton%max_iterations = options%max_newton_iterations
       self%newton%reuse_matrix = options%reuse_newton_matrix
+      self%newton%estimate_error = options%newton_error_estimate
+      self%estimate = options%error_estimate
+      if (self%estimate == estimate_auto) then
+         self%estimate = merge(estimate_embedded, estimate_doubling, &
+            scheme%estimates_own_error .or. options%advance /= advance_scheme)
+      end if
+      if (allocated(self%whole_step)) deallocate (self%whole_step)
+      if (self%estimate == estimate_doubling) then
+         ! a copy prepared like the scheme: it keeps its own Newton matrices for h
+         allocate (self%whole_step, source=scheme)
+         call self%whole_step%restart()
+         self%whole_step%counters = counters_type()
+         self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
+      end if
+      self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit
+      self%extrapolation_ready = .false.
       self%q = options%q
-      if (self%q == 0.0_dp) self%q = real(min(scheme%order, scheme%embedded_order) + 1, dp)
+      if (self%q == 0.0_dp) then
+         if (self%estimate == estimate_doubling) then
+            self%q = real(scheme%nonlinear_order + 1, dp)
+         else
+            self%q = real(min(scheme%order, scheme%embedded_order) + 1, dp)
+         end if
+      end if
       self%err_previous = 1.0_dp
       self%err_before = 1.0_dp
       if (allocated(options%atol_vector)) then
@@ -108,11 +160,11 @@ contains
       self%newton_fraction = options%newton_fraction
       if (self%newton_fraction == 0.0_dp) then
          if (options%rtol > 0.0_dp) then
-            self%newton_fraction = scheme%newton_fraction(options%rtol)
+            self%newton_fraction = scheme%newton_fraction(options%rtol, options%newton_error_estimate)
          else if (allocated(options%atol_vector)) then
-            self%newton_fraction = scheme%newton_fraction(maxval(options%atol_vector))
+            self%newton_fraction = scheme%newton_fraction(maxval(options%atol_vector), options%newton_error_estimate)
          else
-            self%newton_fraction = scheme%newton_fraction(options%atol)
+            self%newton_fraction = scheme%newton_fraction(options%atol, options%newton_error_estimate)
          end if
       end if
    end subroutine start
@@ -223,33 +275,19 @@ contains
          self%newton%tolerance(i) = max(self%newton_fraction*self%weights(i), &
             newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
       end do
-      call problem%clear_rejection()
-      call scheme%advance(problem, t, h, u, self%u_new, self%newton, step_stat, self%delta)
-      if (problem%evaluation_rejected()) then
-         call set_code(step_stat, status_evaluation_failed)
-      else if (step_stat%code == status_ok) then
-         if (.not. (all(ieee_is_finite(self%u_new)) .and. all(ieee_is_finite(self%delta)))) then
-            call set_code(step_stat, status_nonfinite)
+      if (self%estimate == estimate_doubling) then
+         call take_doubled_step()
+      else
+         if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
+         call run_scheme(scheme, t, h, u, self%u_new, self%delta)
+         if (outcome /= attempt_accepted) return
+         if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
+            self%u_new = self%u_new + self%delta
+         else if (options%advance == advance_low .and. scheme%order > scheme%embedded_order) then
+            self%u_new = self%u_new - self%delta
          end if
       end if
-      select case (step_stat%code)
-      case (status_ok)
-      case (status_evaluation_failed)
-         outcome = attempt_failed_evaluation
-         return
-      case (status_nonfinite)
-         outcome = attempt_failed_nonfinite
-         return
-      case default
-         outcome = attempt_failed_newton
-         return
-      end select
-
-      if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
-         self%u_new = self%u_new + self%delta
-      else if (options%advance == advance_low .and. scheme%order > scheme%embedded_order) then
-         self%u_new = self%u_new - self%delta
-      end if
+      if (outcome /= attempt_accepted) return
       call self%set_weights(options, u, self%u_new)
       err = self%weighted_norm(options, self%delta)
       factor = controller_factor(self%controller, scheme%step_safety(options%kappa), self%q, err, &
@@ -269,9 +307,120 @@ contains
          self%err_before = self%err_previous
          self%err_previous = err
          self%h_previous = h
+         if (self%extrapolate) then
+            self%u_step_start = u
+            if (self%estimate == estimate_doubling) self%u_step_middle = self%u_half
+            self%u_step_end = self%u_new
+            self%extrapolation_ready = .true.
+         end if
       else
          outcome = attempt_rejected_error
       end if
+
+   contains
+
+      !> Two steps of h/2 into u_new (each Newton started from the extrapolation of the
+      !> step before it), one step of h by the copy (started from u_new), and the
+      !> Richardson estimate of the error of u_new in delta.
+      subroutine take_doubled_step()
+         real(dp) :: half
+         half = 0.5_dp*h
+         if (self%extrapolate) call self%extrapolate_to(half, u, self%guess)
+         call run_scheme(scheme, t, half, u, self%u_half)
+         if (outcome /= attempt_accepted) return
+         if (self%extrapolate) self%guess = 2.0_dp*self%u_half - u
+         call run_scheme(scheme, t + half, half, self%u_half, self%u_new)
+         if (outcome /= attempt_accepted) return
+         if (self%extrapolate) self%guess = self%u_new
+         call run_scheme(self%whole_step, t, h, u, self%u_whole)
+         scheme%counters = scheme%counters + self%whole_step%counters
+         self%whole_step%counters = counters_type()
+         if (outcome /= attempt_accepted) return
+         self%delta = self%richardson*(self%u_new - self%u_whole)
+      end subroutine take_doubled_step
+
+      !> One step of `stepper_scheme` from (t_from, u_from) into u_to (and the embedded
+      !> difference when `difference` is given), started from self%guess when
+      !> extrapolating; outcome says whether it succeeded or why not.
+      subroutine run_scheme(stepper_scheme, t_from, step, u_from, u_to, difference)
+         class(scheme_type), intent(inout) :: stepper_scheme
+         real(dp), intent(in) :: t_from, step, u_from(:)
+         real(dp), intent(out) :: u_to(:)
+         real(dp), intent(out), optional :: difference(:)
+         call problem%clear_rejection()
+         if (self%extrapolate) then
+            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, self%newton, step_stat, difference, &
+               self%guess)
+         else
+            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, self%newton, step_stat, difference)
+         end if
+         if (problem%evaluation_rejected()) then
+            call set_code(step_stat, status_evaluation_failed)
+         else if (step_stat%code == status_ok) then
+            if (.not. finite(u_to)) call set_code(step_stat, status_nonfinite)
+            if (present(difference)) then
+               if (.not. finite(difference)) call set_code(step_stat, status_nonfinite)
+            end if
+         end if
+         select case (step_stat%code)
+         case (status_ok)
+            outcome = attempt_accepted
+         case (status_evaluation_failed)
+            outcome = attempt_failed_evaluation
+         case (status_nonfinite)
+            outcome = attempt_failed_nonfinite
+         case default
+            outcome = attempt_failed_newton
+         end select
+      end subroutine run_scheme
+
    end subroutine attempt
+
+   !> The Newton starting guess for the state a time `offset` after u, when
+   !> extrapolating and the last accepted step ended in u: the parabola through its
+   !> start, middle and end (step doubling), else the line through its start and end.
+   pure subroutine extrapolate_to(self, offset, u, guess)
+      !> The stepper
+      class(stepper_type), intent(in) :: self
+      !> Time from the start of the new step to the guess
+      real(dp), intent(in) :: offset
+      !> State at the start of the new step (the end of the last accepted one)
+      real(dp), intent(in) :: u(:)
+      !> The guess (u when there is nothing to extrapolate from)
+      real(dp), intent(out) :: guess(:)
+      real(dp) :: ratio
+      if (.not. (self%extrapolate .and. self%extrapolation_ready)) then
+         guess = u
+         return
+      end if
+      ratio = offset/self%h_previous
+      if (self%estimate == estimate_doubling) then
+         guess = (2.0_dp*ratio*(ratio + 0.5_dp))*self%u_step_start - (4.0_dp*ratio*(ratio + 1.0_dp))*self%u_step_middle &
+            + (2.0_dp*(ratio + 1.0_dp)*(ratio + 0.5_dp))*u
+      else
+         guess = u + ratio*(u - self%u_step_start)
+      end if
+   end subroutine extrapolate_to
+
+   !> Whether every entry of v is finite.
+   pure logical function finite(v)
+      real(dp), intent(in) :: v(:)
+      integer :: i
+      finite = .false.
+      do i = 1, size(v)
+         if (.not. ieee_is_finite(v(i))) return
+      end do
+      finite = .true.
+   end function finite
+
+   !> Keep the last accepted step for extrapolation only if u (the state the next
+   !> step starts from) is where it ended: a caller may change the state between calls.
+   subroutine continue_from(self, u)
+      !> The stepper
+      class(stepper_type), intent(inout) :: self
+      !> The state the next step starts from
+      real(dp), intent(in) :: u(:)
+      if (self%extrapolation_ready) self%extrapolation_ready = all(u == self%u_step_end)
+   end subroutine continue_from
 
 end module taylorode_integrate_stepper

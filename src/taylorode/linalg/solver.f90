@@ -2,9 +2,10 @@
 !> assembles, factors it in place and solves with the factors as often as needed.
 !> The storage (dense or banded) comes from the structure the problem declares;
 !> `new_linear_solver` picks the matching LAPACK path. Dense matrices of up to
-!> `small_lu_max_order` rows are factored by the written-out LU instead, with
-!> LAPACK's pivots and arithmetic (the same factors and solutions to the last bit,
-!> without the cost of a LAPACK call, which exceeds the arithmetic at these sizes).
+!> `small_lu_max_order` rows are factored by the written-out LU instead (LAPACK's
+!> pivots and factors; the solves multiply by the reciprocals of the pivots instead
+!> of dividing), without the cost of a LAPACK call, which exceeds the arithmetic at
+!> these sizes.
 module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
@@ -24,6 +25,8 @@ module taylorode_linalg_solver
       class(matrix_type), allocatable :: matrix
       !> Row interchanges of the factorization
       integer, allocatable :: pivots(:)
+      !> Reciprocals of the pivots (dense matrices factored by the written-out LU)
+      real(dp), allocatable :: inverse_diagonal(:)
       !> Whether `matrix` holds valid factors
       logical :: factored = .false.
    contains
@@ -47,7 +50,7 @@ contains
       type(status_type), intent(inout) :: stat
       call new_matrix(solver%matrix, n, structure, stat)
       if (stat%code /= status_ok) return
-      allocate (solver%pivots(n))
+      allocate (solver%pivots(n), solver%inverse_diagonal(n))
    end subroutine new_linear_solver
 
    !> Factor the assembled matrix in place (dgetrf or dgbtrf). Failures carry their
@@ -61,7 +64,7 @@ contains
       select type (a => self%matrix)
       type is (dense_matrix_type)
          if (a%n <= small_lu_max_order) then
-            call small_lu_factor(a%a, self%pivots, info)
+            call small_lu_factor(a%a, self%pivots, info, self%inverse_diagonal)
          else
             call lu_factor(a%a, self%pivots, info)
          end if
@@ -92,7 +95,7 @@ contains
          select type (a => self%matrix)
          type is (dense_matrix_type)
             if (a%n <= small_lu_max_order) then
-               call small_lu_solve(a%a, self%pivots, x)
+               call small_lu_solve(a%a, self%pivots, x, self%inverse_diagonal)
                info = 0
             else
                call lu_solve(a%a, self%pivots, x, info)

@@ -41,6 +41,11 @@ module taylorode_newton_solver
       !> Keep a factored Newton matrix across steps while h changes by at most 20 % and
       !> the last solve contracted by 0.1 or better (off: one factorization per solve)
       logical :: reuse_matrix = .true.
+      !> Stop when the error left, estimated from the contraction as
+      !> theta/(1 - theta) |increment| (theta carried over from the last solve in the
+      !> first iteration), is within the tolerance (RADAU5's test); off: when the last
+      !> increment is, with a second iteration whenever the matrix was kept
+      logical :: estimate_error = .true.
    end type newton_settings_type
 
    !> A nonlinear system r(u) = 0 of a scheme, with the data of the current step
@@ -63,8 +68,13 @@ module taylorode_newton_solver
       !> Contraction factor of the last two increments of the last solve (0 when it
       !> converged in one iteration)
       real(dp) :: last_contraction = 0.0_dp
+      !> theta/(1 - theta) of the last contraction measured: the error left after an
+      !> iteration in units of its increment
+      real(dp) :: error_factor = 1.0_dp
       !> Residual, then the Newton increment
       real(dp), allocatable :: increment(:)
+      !> 1 / tolerance of the current solve (the increments are measured by products)
+      real(dp), allocatable :: inverse_tolerance(:)
    contains
       !> Allocate for systems of size m with a Newton matrix of the given structure
       procedure :: init
@@ -122,9 +132,10 @@ contains
       !> status_invalid_argument for an impossible structure
       type(status_type), intent(inout) :: stat
       call new_linear_solver(self%linear, m, structure, stat)
-      if (allocated(self%increment)) deallocate (self%increment)
-      allocate (self%increment(m))
+      if (allocated(self%increment)) deallocate (self%increment, self%inverse_tolerance)
+      allocate (self%increment(m), self%inverse_tolerance(m))
       self%contraction = 1.0_dp
+      self%error_factor = 1.0_dp
    end subroutine init
 
    !> Forget the factored matrix.
@@ -132,6 +143,7 @@ contains
       !> The solver
       class(newton_solver_type), intent(inout) :: self
       self%linear%factored = .false.
+      self%error_factor = 1.0_dp
    end subroutine forget
 
    !> Newton's method for system%residual(u) = 0 from the guess in u. The matrix is
@@ -139,7 +151,9 @@ contains
    !> changed by at most 20 % and that solve contracted by 0.1 or better; it is
    !> rebuilt at the current iterate whenever the iteration contracts poorly or too
    !> slowly to converge within the iteration limit. Each iteration costs one
-   !> residual and one LU solve. Converged when every |increment_i| <= tolerance_i.
+   !> residual and one LU solve. Converged when the error left, estimated as
+   !> theta/(1 - theta) max_i |increment_i| / tolerance_i, is at most 1 (or, without
+   !> settings%estimate_error, when every |increment_i| <= tolerance_i).
    !> A failure is reported by its code alone (no message is built, nothing is
    !> allocated): status_singular_matrix, status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
@@ -162,19 +176,30 @@ contains
       !> Status: singular matrix, divergence or no convergence
       type(status_type), intent(inout) :: stat
 
-      integer :: iteration, least_iterations, i, n
+      integer :: iteration, least_iterations, i, k, n, m
       logical :: rebuild, rebuilt, known
-      real(dp) :: size_now, size_before, contraction
+      real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
+      m = size(u)
+      ! a system that stacks several copies of the state uses its tolerances for each
+      k = 0
+      do i = 1, m
+         k = k + 1
+         if (k > n) k = 1
+         self%inverse_tolerance(i) = 1.0_dp/settings%tolerance(k)
+      end do
       rebuild = .not. (settings%reuse_matrix .and. self%linear%factored .and. &
          abs(h - self%h_built) <= reuse_step_change*self%h_built .and. &
          self%contraction <= reuse_contraction)
       ! with a kept matrix one small increment says little about the error left:
       ! a second iteration measures the contraction
-      least_iterations = merge(1, 2, rebuild)
+      least_iterations = merge(1, 2, rebuild .or. settings%estimate_error)
+      ! the first iteration's error estimate uses the last contraction measured,
+      ! raised towards 1 (RADAU5's max(FACCON, uround)**0.8)
+      error_factor = 1.0_dp
+      if (settings%estimate_error) error_factor = max(self%error_factor, epsilon(1.0_dp))**0.8_dp
       size_before = huge(1.0_dp)
-      self%last_contraction = 0.0_dp
       do iteration = 1, settings%max_iterations
          call system%residual(problem, u, self%increment, counters)
          counters%newton_iterations = counters%newton_iterations + 1
@@ -182,10 +207,15 @@ contains
             call set_code(stat, status_evaluation_failed)
             return
          end if
-         if (.not. all(ieee_is_finite(self%increment))) then
-            call set_code(stat, status_nonfinite)
-            return
-         end if
+         ! the residual is finite (else f or g gave NaN or Inf); its negative is the
+         ! right-hand side of the Newton correction
+         do i = 1, m
+            if (.not. ieee_is_finite(self%increment(i))) then
+               call set_code(stat, status_nonfinite)
+               return
+            end if
+            self%increment(i) = -self%increment(i)
+         end do
          rebuilt = rebuild
          if (rebuild) then
             call self%linear%matrix%set_zero()
@@ -197,29 +227,37 @@ contains
             if (stat%code /= status_ok) return
             rebuild = .false.
          end if
-         self%increment = -self%increment
          call self%linear%solve(self%increment, stat)
          counters%linear_solves = counters%linear_solves + 1
          if (stat%code /= status_ok) return
-         u = u + self%increment
-         if (.not. all(ieee_is_finite(u))) then
-            self%linear%factored = .false.
-            call set_code(stat, status_newton_diverged)
-            return
-         end if
+         ! the update and the size of the increment in the tolerances
          size_now = 0.0_dp
-         do i = 1, size(u)
-            size_now = max(size_now, abs(self%increment(i))/settings%tolerance(mod(i - 1, n) + 1))
+         do i = 1, m
+            u(i) = u(i) + self%increment(i)
+            if (.not. ieee_is_finite(u(i))) then
+               self%linear%factored = .false.
+               call set_code(stat, status_newton_diverged)
+               return
+            end if
+            size_now = max(size_now, abs(self%increment(i))*self%inverse_tolerance(i))
          end do
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
          known = size_before > 0.0_dp
-         contraction = 0.0_dp
-         if (known) contraction = size_now/size_before
-         if (iteration > 1) self%last_contraction = merge(contraction, huge(1.0_dp), known)
-         if (size_now <= 1.0_dp .and. iteration >= least_iterations) then
-            self%contraction = self%last_contraction
+         if (.not. settings%estimate_error .and. size_now <= 1.0_dp .and. iteration >= least_iterations) then
+            call converged()
             return
+         end if
+         ! (nothing to compare the first increment with: its contraction counts as 0)
+         contraction = 0.0_dp
+         if (known .and. iteration > 1) contraction = size_now/size_before
+         if (settings%estimate_error) then
+            if (iteration > 1 .and. known .and. contraction < 1.0_dp) error_factor = contraction/(1.0_dp - contraction)
+            if (error_factor*size_now <= 1.0_dp) then
+               call converged()
+               self%error_factor = error_factor
+               return
+            end if
          end if
          if (known .and. contraction >= divergence_contraction .and. rebuilt) then
             self%linear%factored = .false.
@@ -237,6 +275,20 @@ contains
       end do
       self%linear%factored = .false.
       call set_code(stat, status_newton_not_converged)
+
+   contains
+
+      !> Keep the contraction of the last two increments (0 after one iteration, huge
+      !> when it is unknown) for the decision to reuse the factors.
+      subroutine converged()
+         self%last_contraction = 0.0_dp
+         if (iteration > 1) then
+            self%last_contraction = huge(1.0_dp)
+            if (known) self%last_contraction = size_now/size_before
+         end if
+         self%contraction = self%last_contraction
+      end subroutine converged
+
    end subroutine solve
 
 end module taylorode_newton_solver

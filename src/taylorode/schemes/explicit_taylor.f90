@@ -72,7 +72,7 @@ contains
       if (stat%code /= status_ok) self%n = 0
    end subroutine explicit_taylor_prepare
 
-   subroutine explicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+   subroutine explicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(explicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
@@ -81,6 +81,7 @@ contains
       type(newton_settings_type), intent(in) :: newton
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: guess(:)
 
       call evaluate_f(problem, t, u0, self%f0, self%counters)
       call evaluate_g(problem, t, u0, self%g0, self%counters)

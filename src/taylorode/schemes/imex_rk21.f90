@@ -102,7 +102,7 @@ contains
       call self%newton%forget()
    end subroutine imex_restart
 
-   subroutine imex_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+   subroutine imex_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(imex_rk21_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
@@ -111,11 +111,16 @@ contains
       type(newton_settings_type), intent(in) :: newton
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: guess(:)
 
       self%stage%h = h
       self%stage%t_stage = t + implicit_nodes(1)*h
       self%stage%known = u0
-      self%y1 = u0
+      if (present(guess)) then
+         self%y1 = u0 + imex_gamma*(guess - u0)
+      else
+         self%y1 = u0
+      end if
       call self%newton(1)%solve(self%stage, problem, h, newton, self%y1, self%counters, stat)
       if (stat%code /= status_ok) return
       call evaluate_f(problem, t, self%y1, self%f_y1, self%counters)
@@ -123,7 +128,11 @@ contains
 
       self%stage%t_stage = t + implicit_nodes(2)*h
       self%stage%known = u0 + (h*imex_c)*self%f_y1 + (h*(1.0_dp - imex_gamma))*self%g_y1
-      u1 = self%y1
+      if (present(guess)) then
+         u1 = guess
+      else
+         u1 = self%y1
+      end if
       call self%newton(2)%solve(self%stage, problem, h, newton, u1, self%counters, stat)
       if (stat%code /= status_ok) return
       call evaluate_f(problem, t + imex_c*h, u1, self%f_y2, self%counters)

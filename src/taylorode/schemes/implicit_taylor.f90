@@ -106,7 +106,7 @@ contains
       call self%newton%forget()
    end subroutine implicit_taylor_restart
 
-   subroutine implicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+   subroutine implicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(implicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
@@ -115,12 +115,17 @@ contains
       type(newton_settings_type), intent(in) :: newton
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: guess(:)
 
       self%system%t1 = t + h
       self%system%h = h
-      self%system%u0 = u0
+      self%system%u0(:) = u0
       self%system%order = self%order
-      u1 = u0
+      if (present(guess)) then
+         u1 = guess
+      else
+         u1 = u0
+      end if
       call self%newton(self%order)%solve(self%system, problem, h, newton, u1, self%counters, stat)
       if (stat%code /= status_ok .or. .not. present(delta)) return
 
@@ -142,11 +147,18 @@ contains
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: r(:)
       type(counters_type), intent(inout) :: counters
+      integer :: i
 
-      call evaluate_f(problem, self%t1, u, self%f1, counters)
-      call evaluate_g(problem, self%t1, u, self%g1, counters)
-      self%rhs1 = self%f1 + self%g1
-      r = u - self%u0 - self%h*self%rhs1
+      ! f and g called directly (not through evaluate_f, evaluate_g): on small systems
+      ! each layer of calls costs as much as the arithmetic
+      call problem%f(self%t1, u, self%f1)
+      call problem%g(self%t1, u, self%g1)
+      counters%f_evaluations = counters%f_evaluations + 1
+      counters%g_evaluations = counters%g_evaluations + 1
+      do i = 1, size(u)
+         self%rhs1(i) = self%f1(i) + self%g1(i)
+         r(i) = u(i) - self%u0(i) - self%h*self%rhs1(i)
+      end do
       if (self%order == 2) then
          call jacobian_at(self, problem, u, counters)
          call self%jac1%multiply_add(0.5_dp*self%h*self%h, self%rhs1, r)

@@ -166,6 +166,7 @@ contains
       self%embedded_order = 3
       self%implicit = .true.
       self%predictive_control = .true.
+      self%estimates_own_error = .true.
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
    end function new_radau5
@@ -201,9 +202,10 @@ contains
    end subroutine radau_step_hold
 
    !> RADAU5's Newton fraction FNEWT = max(10 eps / rtol, min(0.03, sqrt(rtol))).
-   pure real(dp) function radau_newton_fraction(self, tolerance) result(fraction)
+   pure real(dp) function radau_newton_fraction(self, tolerance, estimated) result(fraction)
       class(radau5_type), intent(in) :: self
       real(dp), intent(in) :: tolerance
+      logical, intent(in) :: estimated
       fraction = max(10.0_dp*epsilon(1.0_dp)/tolerance, min(newton_fraction_cap, sqrt(tolerance)))
    end function radau_newton_fraction
 
@@ -253,7 +255,7 @@ contains
       call self%restart()
    end subroutine radau_prepare
 
-   subroutine radau_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+   subroutine radau_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
@@ -262,6 +264,7 @@ contains
       type(newton_settings_type), intent(in) :: newton
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: guess(:)
 
       integer :: n, i
 

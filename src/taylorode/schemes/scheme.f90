@@ -24,9 +24,13 @@ module taylorode_schemes_scheme
    public :: scheme_type, default_newton_settings, default_newton_fraction, stability_quotient
    public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
 
-   !> Fraction of the error weights below which Newton increments must fall, for
-   !> schemes that take the integrator's default (options%newton_fraction = 0)
+   !> Fraction of the error weights below which Newton increments must fall with the
+   !> paper's Newton test, for schemes that take the integrator's default
+   !> (options%newton_fraction = 0)
    real(dp), parameter :: default_newton_fraction = 1.0e-4_dp
+   !> Largest fraction of the error weights left to Newton when its stop test
+   !> estimates the error (FNEWT = max(10 eps / tol, min(cap, sqrt(tol))), Hairer's)
+   real(dp), parameter :: estimated_newton_fraction_cap = 0.03_dp
 
    !> Abstract one-step scheme
    type, abstract :: scheme_type
@@ -54,6 +58,10 @@ module taylorode_schemes_scheme
       !> Whether the integrator's default controller (controller_auto) is the
       !> predictive one for this scheme (radau5), else the I controller
       logical :: predictive_control = .false.
+      !> Whether the embedded difference estimates the error of the solution the scheme
+      !> returns (radau5) rather than that of the lower-order member (the Taylor and
+      !> IMEX pairs): the integrator's default error control then uses the pair
+      logical :: estimates_own_error = .false.
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -79,7 +87,9 @@ module taylorode_schemes_scheme
 
    abstract interface
       !> Advance u0 at t by one step h to u1 (and the embedded difference in delta).
-      subroutine advance_interface(self, problem, t, h, u0, u1, newton, stat, delta)
+      !> An implicit scheme starts Newton's method for the state at t + h from `guess`
+      !> when given (else from u0); explicit schemes and radau5 (its own predictor) ignore it.
+      subroutine advance_interface(self, problem, t, h, u0, u1, newton, stat, delta, guess)
          import :: scheme_type, ode_problem, dp, status_type, newton_settings_type
          !> The scheme
          class(scheme_type), intent(inout) :: self
@@ -99,6 +109,8 @@ module taylorode_schemes_scheme
          type(status_type), intent(inout) :: stat
          !> Difference of the embedded pair, computed only when present
          real(dp), intent(out), optional :: delta(:)
+         !> Approximation of the state at t + h to start Newton's method from
+         real(dp), intent(in), optional :: guess(:)
       end subroutine advance_interface
 
       !> Allocate work arrays (dense or banded as the problem declares) for size n.
@@ -252,13 +264,22 @@ contains
    end subroutine step_hold
 
    !> Fraction of the error weights to which Newton iterates when the options
-   !> leave it to the scheme; `tolerance` is rtol (atol when rtol = 0).
-   pure real(dp) function newton_fraction(self, tolerance)
+   !> leave it to the scheme; `tolerance` is rtol (atol when rtol = 0). With a stop
+   !> test that estimates Newton's error (`estimated`), Hairer's FNEWT; with the
+   !> paper's test on the last increment, 1e-4.
+   pure real(dp) function newton_fraction(self, tolerance, estimated)
       !> The scheme
       class(scheme_type), intent(in) :: self
       !> The integrator's relative tolerance (its absolute one when rtol = 0)
       real(dp), intent(in) :: tolerance
-      newton_fraction = default_newton_fraction
+      !> Whether Newton's stop test estimates the error left
+      logical, intent(in) :: estimated
+      if (estimated) then
+         newton_fraction = max(10.0_dp*epsilon(1.0_dp)/tolerance, &
+            estimated_newton_fraction_cap)
+      else
+         newton_fraction = default_newton_fraction
+      end if
    end function newton_fraction
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they

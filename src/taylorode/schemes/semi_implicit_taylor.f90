@@ -142,7 +142,7 @@ contains
       call self%newton%forget()
    end subroutine semi_implicit_restart
 
-   subroutine semi_implicit_advance(self, problem, t, h, u0, u1, newton, stat, delta)
+   subroutine semi_implicit_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(semi_implicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
@@ -151,6 +151,7 @@ contains
       type(newton_settings_type), intent(in) :: newton
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
+      real(dp), intent(in), optional :: guess(:)
 
       logical :: needed(3)
 
@@ -182,7 +183,11 @@ contains
          if (stat%code /= status_ok) return
 
          system%member = self%member
-         u1 = u0
+         if (present(guess)) then
+            u1 = guess
+         else
+            u1 = u0
+         end if
          call self%newton(self%member)%solve(system, problem, h, newton, u1, self%counters, stat)
          if (stat%code /= status_ok .or. .not. present(delta)) return
 

@@ -5,12 +5,22 @@ module taylorode_testset_hires
    implicit none
    private
 
-   public :: hires_type, new_hires
+   public :: hires_type, new_hires, hires_split_exchange_stiff, hires_split_reaction_stiff
+
+   !> g = the linear exchange terms, f = the reaction 280 y6 y8 and the source
+   integer, parameter :: hires_split_exchange_stiff = 1
+   !> g = the reaction 280 y6 y8, f = the linear terms and the source (the split the
+   !> peer solvers' IMEX methods are measured with)
+   integer, parameter :: hires_split_reaction_stiff = 2
+   !> The constant source of y1
+   real(dp), parameter :: source = 0.0007_dp
 
    !> HIRES, high irradiance responses of photomorphogenesis (Hairer & Wanner II,
-   !> IV.10; Bari test set HIRES). f = the reaction 280 y6 y8 and the source 0.0007,
-   !> g = the linear exchange terms.
+   !> IV.10; Bari test set HIRES), split by `split`: by default f = the reaction
+   !> 280 y6 y8 and the source 0.0007, g = the linear exchange terms.
    type, extends(test_problem_type) :: hires_type
+      !> hires_split_exchange_stiff or hires_split_reaction_stiff
+      integer :: split = hires_split_exchange_stiff
    contains
       procedure :: f => hires_f
       procedure :: g => hires_g
@@ -20,9 +30,13 @@ module taylorode_testset_hires
 
 contains
 
-   !> HIRES from its standard initial state over [0, 321.8122], with the published solution.
-   pure function new_hires() result(self)
+   !> HIRES from its standard initial state over [0, 321.8122], with the published
+   !> solution; split as `split` says (default hires_split_exchange_stiff).
+   pure function new_hires(split) result(self)
+      !> hires_split_exchange_stiff or hires_split_reaction_stiff
+      integer, intent(in), optional :: split
       type(hires_type) :: self
+      if (present(split)) self%split = split
       self%name = "hires"
       self%t_end = 321.8122_dp
       self%u0 = [1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0057_dp]
@@ -39,18 +53,65 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp) :: reaction
-      reaction = 280.0_dp*u(6)*u(8)
-      dudt = 0.0_dp
-      dudt(1) = 0.0007_dp
-      dudt(6) = -reaction
-      dudt(7) = reaction
-      dudt(8) = -reaction
+      if (self%split == hires_split_reaction_stiff) then
+         call exchange_terms(u, dudt)
+         dudt(1) = dudt(1) + source
+      else
+         call reaction_terms(u, dudt)
+         dudt(1) = source
+      end if
    end subroutine hires_f
 
    subroutine hires_g(self, t, u, dudt)
       class(hires_type), intent(inout) :: self
       real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      if (self%split == hires_split_reaction_stiff) then
+         call reaction_terms(u, dudt)
+      else
+         call exchange_terms(u, dudt)
+      end if
+   end subroutine hires_g
+
+   subroutine hires_jac_f(self, t, u, jac)
+      class(hires_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (self%split == hires_split_reaction_stiff) then
+         call exchange_jacobian(jac)
+      else
+         call reaction_jacobian(u, jac)
+      end if
+   end subroutine hires_jac_f
+
+   subroutine hires_jac_g(self, t, u, jac)
+      class(hires_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (self%split == hires_split_reaction_stiff) then
+         call reaction_jacobian(u, jac)
+      else
+         call exchange_jacobian(jac)
+      end if
+   end subroutine hires_jac_g
+
+   !> The reaction 280 y6 y8 (components 6, 7, 8; the others zero).
+   pure subroutine reaction_terms(u, dudt)
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp) :: reaction
+      reaction = 280.0_dp*u(6)*u(8)
+      dudt = 0.0_dp
+      dudt(6) = -reaction
+      dudt(7) = reaction
+      dudt(8) = -reaction
+   end subroutine reaction_terms
+
+   !> The linear exchange terms.
+   pure subroutine exchange_terms(u, dudt)
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
       dudt(1) = -1.71_dp*u(1) + 0.43_dp*u(2) + 8.32_dp*u(3)
@@ -61,11 +122,10 @@ contains
       dudt(6) = 0.69_dp*u(4) + 1.71_dp*u(5) - 0.43_dp*u(6) + 0.69_dp*u(7)
       dudt(7) = -1.81_dp*u(7)
       dudt(8) = 1.81_dp*u(7)
-   end subroutine hires_g
+   end subroutine exchange_terms
 
-   subroutine hires_jac_f(self, t, u, jac)
-      class(hires_type), intent(inout) :: self
-      real(dp), intent(in) :: t
+   !> Jacobian of the reaction terms.
+   pure subroutine reaction_jacobian(u, jac)
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
@@ -73,12 +133,10 @@ contains
       jac(6, 8) = -280.0_dp*u(6)
       jac(7, 6:8:2) = -jac(6, 6:8:2)
       jac(8, 6:8:2) = jac(6, 6:8:2)
-   end subroutine hires_jac_f
+   end subroutine reaction_jacobian
 
-   subroutine hires_jac_g(self, t, u, jac)
-      class(hires_type), intent(inout) :: self
-      real(dp), intent(in) :: t
-      real(dp), intent(in) :: u(:)
+   !> Jacobian of the exchange terms (constant).
+   pure subroutine exchange_jacobian(jac)
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
       jac(1, 1:3) = [-1.71_dp, 0.43_dp, 8.32_dp]
@@ -89,6 +147,6 @@ contains
       jac(6, 4:7) = [0.69_dp, 1.71_dp, -0.43_dp, 0.69_dp]
       jac(7, 7) = -1.81_dp
       jac(8, 7) = 1.81_dp
-   end subroutine hires_jac_g
+   end subroutine exchange_jacobian
 
 end module taylorode_testset_hires

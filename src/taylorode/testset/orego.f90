@@ -5,12 +5,22 @@ module taylorode_testset_orego
    implicit none
    private
 
-   public :: orego_type, new_orego
+   public :: orego_type, new_orego, orego_split_fast_stiff, orego_split_bilinear_stiff
 
-   !> OREGO, the Oregonator (Hairer & Wanner II, IV.10; Bari test set OREGO).
-   !> g = the fast first two equations (scaled by s and 1/s), f = the slow third.
+   !> g = the fast first two equations, f = the slow third
+   integer, parameter :: orego_split_fast_stiff = 1
+   !> g = (s (y2 + y1 - y1 y2), -y1 y2 / s, 0), f = the rest (the split the peer
+   !> solvers' IMEX methods are measured with)
+   integer, parameter :: orego_split_bilinear_stiff = 2
+
+   !> OREGO, the Oregonator (Hairer & Wanner II, IV.10; Bari test set OREGO), split
+   !> by `split`: by default g = the fast first two equations (scaled by s and 1/s),
+   !> f = the slow third.
    type, extends(test_problem_type) :: orego_type
+      !> Rate constants
       real(dp) :: s = 77.27_dp, w = 0.161_dp, q = 8.375e-6_dp
+      !> orego_split_fast_stiff or orego_split_bilinear_stiff
+      integer :: split = orego_split_fast_stiff
    contains
       procedure :: f => orego_f
       procedure :: g => orego_g
@@ -20,9 +30,13 @@ module taylorode_testset_orego
 
 contains
 
-   !> OREGO from (1, 2, 3) over [0, 360], with the published solution.
-   pure function new_orego() result(self)
+   !> OREGO from (1, 2, 3) over [0, 360], with the published solution; split as
+   !> `split` says (default orego_split_fast_stiff).
+   pure function new_orego(split) result(self)
+      !> orego_split_fast_stiff or orego_split_bilinear_stiff
+      integer, intent(in), optional :: split
       type(orego_type) :: self
+      if (present(split)) self%split = split
       self%name = "orego"
       self%t_end = 360.0_dp
       self%u0 = [1.0_dp, 2.0_dp, 3.0_dp]
@@ -37,7 +51,12 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
-      dudt(1:2) = 0.0_dp
+      if (self%split == orego_split_bilinear_stiff) then
+         dudt(1) = -self%s*self%q*u(1)**2
+         dudt(2) = (u(3) - u(2))/self%s
+      else
+         dudt(1:2) = 0.0_dp
+      end if
       dudt(3) = self%w*(u(1) - u(3))
    end subroutine orego_f
 
@@ -46,8 +65,13 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
-      dudt(1) = self%s*(u(2) - u(1)*u(2) + u(1) - self%q*u(1)**2)
-      dudt(2) = (-u(2) - u(1)*u(2) + u(3))/self%s
+      if (self%split == orego_split_bilinear_stiff) then
+         dudt(1) = self%s*(u(2) + u(1) - u(1)*u(2))
+         dudt(2) = -u(1)*u(2)/self%s
+      else
+         dudt(1) = self%s*(u(2) - u(1)*u(2) + u(1) - self%q*u(1)**2)
+         dudt(2) = (-u(2) - u(1)*u(2) + u(3))/self%s
+      end if
       dudt(3) = 0.0_dp
    end subroutine orego_g
 
@@ -57,6 +81,11 @@ contains
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
+      if (self%split == orego_split_bilinear_stiff) then
+         jac(1, 1) = -2.0_dp*self%s*self%q*u(1)
+         jac(2, 2) = -1.0_dp/self%s
+         jac(2, 3) = 1.0_dp/self%s
+      end if
       jac(3, 1) = self%w
       jac(3, 3) = -self%w
    end subroutine orego_jac_f
@@ -67,11 +96,16 @@ contains
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
-      jac(1, 1) = self%s*(1.0_dp - u(2) - 2.0_dp*self%q*u(1))
       jac(1, 2) = self%s*(1.0_dp - u(1))
       jac(2, 1) = -u(2)/self%s
-      jac(2, 2) = -(1.0_dp + u(1))/self%s
-      jac(2, 3) = 1.0_dp/self%s
+      if (self%split == orego_split_bilinear_stiff) then
+         jac(1, 1) = self%s*(1.0_dp - u(2))
+         jac(2, 2) = -u(1)/self%s
+      else
+         jac(1, 1) = self%s*(1.0_dp - u(2) - 2.0_dp*self%q*u(1))
+         jac(2, 2) = -(1.0_dp + u(1))/self%s
+         jac(2, 3) = 1.0_dp/self%s
+      end if
    end subroutine orego_jac_g
 
 end module taylorode_testset_orego
