@@ -13,7 +13,7 @@ program taylorode_app
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
       status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
       scheme_count, integrator_options_type, paper_options, norm_max, norm_rms, controller_i, controller_pi, &
-      estimate_embedded, estimate_doubling, &
+      estimate_auto, estimate_embedded, estimate_doubling, &
       controller_pid, controller_name, integrate, integration_stats_type, step_history_type
    use taylorode_testset, only: test_problem_type, test_problem_names, new_test_problem, van_der_pol_type, &
       new_van_der_pol, vdp_split_paper, vdp_split_stiff, vdp_ic_unprepared, vdp_ic_prepared, &
@@ -291,6 +291,7 @@ contains
       if (request%command == "sweep") request%schemes = [character(len=16) :: &
          "si-t-1", "si-t-2", "i-t-1", "i-t-2", "imex-rk21", "radau5"]
       if (request%command == "bench") then
+         request%options%error_estimate = estimate_auto
          request%schemes = [character(len=16) :: "si-t-2", "i-t-2", "radau5"]
          request%problems = [character(len=16) :: "vdp-paper", "vdp1e3_wp", "vdp1e3_up", "rober40", "rober1e11", &
             "hires", "orego", "e5", "bruss32", "bruss512"]
@@ -416,7 +417,7 @@ contains
             call set_status(stat, status_invalid_argument, "--controller must be i, pi or pid, got "//value); return
          end select
       case ("--estimate")
-         if (.not. allowed(request, option, ["vdp"], stat)) return
+         if (.not. allowed(request, option, ["vdp  ", "bench"], stat)) return
          select case (value)
          case ("embedded"); request%options%error_estimate = estimate_embedded
          case ("doubling"); request%options%error_estimate = estimate_doubling
@@ -764,6 +765,8 @@ contains
             "                computed with radau5 at 1e-12)"//nl// &
             "  --budget N    step budget per run (default "//format_count(default_budget)// &
             "); tighter tolerances are skipped after a run reaches it"//nl// &
+            "  --estimate embedded|doubling  the error estimate (default: the library's, step doubling;"//nl// &
+            "                radau5 its own)"//nl// &
             "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>)"
       case default
          text = "taylorode "//version//": one-step Taylor schemes for stiff ODEs U' = f(U) + g(U)"//nl// &
@@ -1565,7 +1568,7 @@ contains
          options = paper_options()
          tol_text = "paper"
       else
-         options = integrator_options_type(rtol=tol, atol=tol, norm=norm_rms)
+         options = integrator_options_type(rtol=tol, atol=tol, norm=norm_rms, error_estimate=request%options%error_estimate)
          if (bench%atol > 0.0_dp) options%atol = bench%atol
          tol_text = format_real(tol, 1)
       end if

@@ -1,8 +1,11 @@
-!> The base layer: number formatting for messages and reports.
+!> The base layers: number formatting for messages and reports, and the written-out
+!> factorizations of the linear algebra layer against LAPACK.
 module test_base
    use testdrive, only: new_unittest, unittest_type, error_type, check
    use taylorode, only: dp, i8
-   use taylorode_base_strings, only: format_count, format_real, format_fixed
+   use taylorode_base_strings, only: format_count, format_real, format_fixed, format_integer
+   use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, small_lu_factor, &
+      small_lu_solve, narrow_band_lu_factor, narrow_band_lu_solve
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
    implicit none
    private
@@ -15,9 +18,110 @@ contains
    subroutine collect_base(testsuite)
       type(unittest_type), allocatable, intent(out) :: testsuite(:)
       testsuite = [ &
-         new_unittest("number-formats", test_formats) &
+         new_unittest("number-formats", test_formats), &
+         new_unittest("written-out-lu-equals-lapack", test_written_out_lu) &
          ]
    end subroutine collect_base
+
+   !> The written-out dense and band LU give LAPACK's pivots, factors and solutions
+   !> bit for bit (with LAPACK's division in the solve; with the reciprocals of the
+   !> pivots, to 1e-13 relative dense, 1e-12 band), on pseudo-random matrices that need row
+   !> interchanges, for every order up to 24 (dense) and bandwidths 0 to 5 with n from
+   !> 1 to 40 (band), and report the same first zero pivot of a singular matrix.
+   subroutine test_written_out_lu(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: orders(4) = [1, 2, 7, 40]
+      real(dp), allocatable :: a(:, :), lu(:, :), ab(:, :), band(:, :), original(:, :), b(:), x(:), y(:), &
+         inverse(:)
+      integer, allocatable :: pivots(:), band_pivots(:)
+      integer :: n, kl, ku, i, j, info, info_lapack, k
+      integer(i8) :: state
+      character(len=:), allocatable :: label
+
+      state = 20261123_i8
+      do n = 1, 24
+         label = "dense n = "//format_integer(n)
+         allocate (a(n, n), lu(n, n), b(n), x(n), y(n), pivots(n), band_pivots(n), inverse(n))
+         do j = 1, n
+            do i = 1, n
+               a(i, j) = next_value(state)
+            end do
+            b(j) = next_value(state)
+         end do
+         lu = a
+         call lu_factor(lu, pivots, info_lapack)
+         call small_lu_factor(a, band_pivots, info, inverse)
+         call check(error, info == info_lapack .and. all(pivots == band_pivots) .and. all(a == lu), &
+            label//": factors differ from dgetrf")
+         if (allocated(error)) return
+         x = b
+         call lu_solve(lu, pivots, x, info_lapack)
+         y = b
+         call small_lu_solve(a, band_pivots, y)
+         call check(error, all(x == y), label//": solution differs from dgetrs")
+         if (allocated(error)) return
+         y = b
+         call small_lu_solve(a, band_pivots, y, inverse)
+         call check(error, maxval(abs(x - y)) <= 1.0e-13_dp*maxval(abs(x)), label//": reciprocal pivots")
+         if (allocated(error)) return
+         deallocate (a, lu, b, x, y, pivots, band_pivots, inverse)
+      end do
+
+      do k = 1, size(orders)
+         n = orders(k)
+         do kl = 0, 5
+            do ku = 0, 5
+               label = "band n = "//format_integer(n)//", kl = "//format_integer(kl)//", ku = "//format_integer(ku)
+               allocate (ab(2*kl + ku + 1, n), band(2*kl + ku + 1, n), original(2*kl + ku + 1, n), b(n), x(n), &
+                  y(n), pivots(n), band_pivots(n))
+               ab = 0.0_dp
+               do j = 1, n
+                  do i = max(1, j - ku), min(n, j + kl)
+                     ab(kl + ku + 1 + i - j, j) = next_value(state)
+                  end do
+                  b(j) = next_value(state)
+               end do
+               ! a zero column makes the largest case singular at a known pivot
+               if (n == 40 .and. kl == 5 .and. ku == 5) ab(:, 17) = 0.0_dp
+               original = ab
+               band = ab
+               call band_lu_factor(band, kl, ku, pivots, info_lapack)
+               call narrow_band_lu_factor(ab, kl, ku, band_pivots, info)
+               call check(error, info == info_lapack .and. all(pivots == band_pivots) .and. all(ab == band), &
+                  label//": factors differ from dgbtrf")
+               if (allocated(error)) return
+               if (info == 0) then
+                  x = b
+                  call band_lu_solve(band, kl, ku, pivots, x, info_lapack)
+                  y = b
+                  call narrow_band_lu_solve(ab, kl, ku, band_pivots, y)
+                  call check(error, all(x == y), label//": solution differs from dgbtrs")
+                  if (allocated(error)) return
+                  band = original
+                  allocate (inverse(n))
+                  call narrow_band_lu_factor(band, kl, ku, band_pivots, info, inverse)
+                  y = b
+                  call narrow_band_lu_solve(band, kl, ku, band_pivots, y, inverse)
+                  deallocate (inverse)
+                  call check(error, maxval(abs(x - y)) <= 1.0e-12_dp*maxval(abs(x)), label//": reciprocal pivots")
+                  if (allocated(error)) return
+               else
+                  call check(error, info, 17, label//": the zero column is the first zero pivot")
+                  if (allocated(error)) return
+               end if
+               deallocate (ab, band, original, b, x, y, pivots, band_pivots)
+            end do
+         end do
+      end do
+   end subroutine test_written_out_lu
+
+   !> Pseudo-random numbers in (-1, 1) (the minimal standard generator of Park and
+   !> Miller: the same sequence on every machine, no integer overflow).
+   real(dp) function next_value(state)
+      integer(i8), intent(inout) :: state
+      state = modulo(48271_i8*state, 2147483647_i8)
+      next_value = 2.0_dp*real(state, dp)/2147483647.0_dp - 1.0_dp
+   end function next_value
 
    subroutine test_formats(error)
       type(error_type), allocatable, intent(out) :: error

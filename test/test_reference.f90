@@ -195,9 +195,8 @@ contains
    end subroutine test_schemes_robertson
 
    !> The L-stable schemes complete Van der Pol mu = 1e6 over [0, 3e6] at
-   !> rtol = atol = 1e-5; i-t-2 lands within 0.1 of radau5 in y (measured 3e-2 with
-   !> step doubling: a phase error of the relaxation oscillation, which error per
-   !> step control at 1e-5 allows over three periods).
+   !> rtol = atol = 1e-5; i-t-2 at 1e-6 lands within 1e-2 of radau5 in y (measured
+   !> 3.3e-3: the phase error of the relaxation oscillation over three periods).
    subroutine test_schemes_van_der_pol(error)
       type(error_type), allocatable, intent(out) :: error
       type(van_der_pol_type) :: problem
@@ -226,8 +225,13 @@ contains
          call check(error, all(ieee_is_finite(u)) .and. abs(u(1)) < 2.1_dp, trim(l_stable(k))//": state")
          if (allocated(error)) return
          if (trim(l_stable(k)) == "i-t-2") then
-            call check(error, abs(u(1) - reference(1)) < 0.1_dp, "i-t-2 far from radau5 at 3e6: "// &
-               format_real(abs(u(1) - reference(1))))
+            ! at 1e-5 the final state lies near a jump of the relaxation oscillation,
+            ! where a small phase error moves y by O(1): accuracy is judged at 1e-6
+            u = problem%u0
+            call integrate(problem, scheme, problem%t0, problem%t_end, u, integrator_options_type(rtol=1.0e-6_dp, &
+               atol=1.0e-6_dp, max_steps=2000000_i8), stats, stat)
+            call check(error, stat%code == status_ok .and. abs(u(1) - reference(1)) < 1.0e-2_dp, &
+               "i-t-2 at 1e-6 far from radau5 at 3e6: "//format_real(abs(u(1) - reference(1))))
             if (allocated(error)) return
          end if
       end do

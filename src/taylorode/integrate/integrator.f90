@@ -183,18 +183,52 @@ contains
          call evaluate_start(self, problem, scheme, t0, u0, self%stepper%delta, stat)
          call add_work(self%total, scheme%counters, work_before)
          if (stat%code /= status_ok) return
+         call first_step_size()
+         if (stat%code /= status_ok) return
+      end if
+      self%h = min(self%h, options%h_max)
+      self%ready = .true.
+
+   contains
+
+      !> The first step size, as Hairer's HINIT chooses it: h = 0.01 |U0|_w / |F0|_w
+      !> from the first derivative, then the second derivative estimated from an Euler
+      !> step of that size, |F(U0 + h F0) - F0|_w / h (at least |F0|_w), limits h to (0.01 / y'')^(1/p)
+      !> (p the scheme's order; at most 100 times the first guess). Without a usable
+      !> size (a zero state or derivative) h = 1e-6 max(1, |t0|).
+      subroutine first_step_size()
+         real(dp) :: second_derivative, limit, fallback
+         fallback = 1.0e-6_dp*max(1.0_dp, abs(t0))
          call self%stepper%set_weights(options, u0, u0)
          size_u = self%stepper%weighted_norm(options, u0)
          size_f = self%stepper%weighted_norm(options, self%stepper%delta)
          if (size_u < 1.0e-5_dp .or. size_f < 1.0e-5_dp .or. .not. ieee_is_finite(size_f)) then
-            self%h = 1.0e-6_dp
+            self%h = fallback
          else
             self%h = 0.01_dp*size_u/size_f
          end if
-         self%h = max(self%h, options%h_min)
-      end if
-      self%h = min(self%h, options%h_max)
-      self%ready = .true.
+         self%h = min(max(self%h, options%h_min), options%h_max)
+         ! F at the end of an Euler step of size h (u_new and the scratch as work space)
+         self%stepper%u_new = u0 + self%h*self%stepper%delta
+         work_before = scheme%counters
+         call evaluate_start(self, problem, scheme, t0 + self%h, self%stepper%u_new, self%stepper%u_whole, stat)
+         call add_work(self%total, scheme%counters, work_before)
+         if (stat%code /= status_ok) then
+            ! an Euler step can leave where F is defined: keep the first guess
+            stat = status_type()
+            return
+         end if
+         self%stepper%u_whole = self%stepper%u_whole - self%stepper%delta
+         second_derivative = self%stepper%weighted_norm(options, self%stepper%u_whole)/self%h
+         second_derivative = max(second_derivative, size_f)
+         if (second_derivative <= 1.0e-15_dp) then
+            limit = max(fallback, 1.0e-3_dp*self%h)
+         else
+            limit = (0.01_dp/second_derivative)**(1.0_dp/real(max(scheme%nonlinear_order, 1), dp))
+         end if
+         self%h = max(min(100.0_dp*self%h, limit), options%h_min)
+      end subroutine first_step_size
+
    end subroutine init
 
    !> F(t, u) into rhs; a rejected evaluation or NaN/Inf there is an error.

@@ -29,9 +29,10 @@ module taylorode_integrate_options
    !> The difference of the embedded pair (the paper's): for the Taylor pairs it
    !> estimates the error of the lower-order member
    integer, parameter :: estimate_embedded = 1
-   !> Step doubling (Richardson): two steps of h/2 advance the solution, one step of
-   !> h beside them, err = |U_{h/2,h/2} - U_h| / (2^p - 1) estimates the error of the
-   !> solution returned (p: the scheme's order on nonlinear problems)
+   !> Step doubling (Richardson): two steps of h/2 and one step of h, err =
+   !> |U_{h/2,h/2} - U_h| / (2^p - 1) estimates the error of U_{h/2,h/2} (p: the
+   !> scheme's order on nonlinear problems); the solution advances with U_{h/2,h/2},
+   !> or with its local extrapolation (options%local_extrapolation)
    integer, parameter :: estimate_doubling = 2
    !> Largest controller exponent q accepted
    real(dp), parameter :: max_q = 20.0_dp
@@ -79,6 +80,11 @@ module taylorode_integrate_options
       real(dp) :: kappa = default_kappa
       !> Error estimate: estimate_auto, estimate_embedded or estimate_doubling
       integer :: error_estimate = estimate_auto
+      !> With step doubling, advance with the Richardson extrapolation
+      !> U_{h/2,h/2} + (U_{h/2,h/2} - U_h) / (2^p - 1), of order p + 1, whose error err
+      !> bounds (the stability function becomes (2^p R(z/2)^2 - R(z)) / (2^p - 1): for
+      !> the L-stable schemes still L-stable and A(89 deg)-stable); off: with U_{h/2,h/2}
+      logical :: local_extrapolation = .true.
       !> Order exponent q of the controller, in [1, 20]; 0 takes it from the estimate
       !> (step doubling: the scheme's order + 1; embedded pair: lower order + 1)
       real(dp) :: q = 0.0_dp
@@ -106,6 +112,11 @@ module taylorode_integrate_options
       !> Newton's stop test estimates the error left from the contraction (RADAU5's
       !> test); off: the last increment must be below the tolerance (the paper's)
       logical :: newton_error_estimate = .true.
+      !> Newton matrices with every term of the scheme's equation (i-t-2: the second
+      !> derivatives of F along F, by differencing the Jacobians); off: the paper's
+      !> matrices, which omit them (Newton then converges more slowly or, with long
+      !> steps on stiff quadratic problems, not at all)
+      logical :: exact_newton_matrix = .true.
       !> Start Newton's method from the extrapolation of the last accepted step (the
       !> line through its two states); off: from the state at the start of the step
       logical :: extrapolate_newton_start = .true.
@@ -122,8 +133,9 @@ contains
 
    !> The settings of the paper's Van der Pol experiment (METHODS.md section 5):
    !> rtol 0, atol 1e-5, max norm, I controller, kappa 0.9, h0 1e-2, no h_max and no
-   !> growth or shrink limits, the embedded pair's error estimate, Newton started from
-   !> the state at the start of the step and stopped by its last increment. q is left to the scheme pair: 2 for
+   !> growth or shrink limits, the embedded pair's error estimate, the paper's Newton
+   !> matrices, Newton started from the state at the start of the step and stopped by
+   !> its last increment. q is left to the scheme pair: 2 for
    !> every pair of the paper (its setting), 4 for radau5.
    pure function paper_options() result(options)
       type(integrator_options_type) :: options
@@ -140,6 +152,7 @@ contains
       options%error_estimate = estimate_embedded
       options%extrapolate_newton_start = .false.
       options%newton_error_estimate = .false.
+      options%exact_newton_matrix = .false.
    end function paper_options
 
    !> Check every option for a system of n unknowns; stat says which one is wrong.

@@ -4,7 +4,8 @@
 !>
 !> Error estimates: the embedded pair's difference, or step doubling (two steps of
 !> h/2 advance the solution, one step of h taken by a second copy of the scheme,
-!> which keeps its own factored Newton matrices, gives the Richardson estimate).
+!> which keeps its own factored Newton matrices, gives the Richardson estimate, and
+!> with local extrapolation the Richardson-extrapolated value advances).
 !> Newton's method starts from the line through the last accepted step's two
 !> states, extended to the end of the new step (or of each half step).
 !>
@@ -48,6 +49,12 @@ module taylorode_integrate_stepper
       real(dp), allocatable :: weights(:)
       !> Newton settings passed to the scheme (tolerance updated every attempt)
       type(newton_settings_type) :: newton
+      !> Step doubling: the settings of the single step of size h, whose Newton error
+      !> enters err only divided by 2^p - 1 and may be larger (whole_newton_fraction)
+      type(newton_settings_type) :: newton_whole
+      !> Step doubling: fraction of the weights left to Newton in the single step,
+      !> 0.1 (2^p - 1), so that its Newton error moves err by at most 0.1
+      real(dp) :: whole_newton_fraction = 0.1_dp
       !> Order exponent of the controller
       real(dp) :: q = 2.0_dp
       !> Weighted errors of the two previous accepted steps (1 when there are none)
@@ -70,10 +77,9 @@ module taylorode_integrate_stepper
       class(scheme_type), allocatable :: whole_step
       !> Step doubling: the state after the first half step, and after the whole step
       real(dp), allocatable :: u_half(:), u_whole(:)
-      !> Start of the last accepted step, its middle (step doubling) and its end (the
-      !> state the next step starts from, unless the caller changed it), for the Newton
-      !> starting guess
-      real(dp), allocatable :: u_step_start(:), u_step_middle(:), u_step_end(:)
+      !> Start of the last accepted step and its end (the state the next step starts
+      !> from, unless the caller changed it), for the Newton starting guess
+      real(dp), allocatable :: u_step_start(:), u_step_end(:)
       !> Newton starting guess
       real(dp), allocatable :: guess(:)
       !> Whether Newton starts from an extrapolation, and whether one is possible now
@@ -110,15 +116,22 @@ contains
       type(integrator_options_type), intent(in) :: options
       if (allocated(self%u_new)) then
          if (size(self%u_new) /= n) deallocate (self%u_new, self%delta, self%weights, self%newton%tolerance, &
-            self%u_half, self%u_whole, self%u_step_start, self%u_step_middle, self%u_step_end, self%guess)
+            self%newton_whole%tolerance, &
+            self%u_half, self%u_whole, self%u_step_start, self%u_step_end, self%guess)
       end if
       if (.not. allocated(self%u_new)) then
-         allocate (self%u_new(n), self%delta(n), self%weights(n), self%newton%tolerance(n), self%u_half(n), &
-            self%u_whole(n), self%u_step_start(n), self%u_step_middle(n), self%u_step_end(n), self%guess(n))
+         allocate (self%u_new(n), self%delta(n), self%weights(n), self%newton%tolerance(n), &
+            self%newton_whole%tolerance(n), self%u_half(n), &
+            self%u_whole(n), self%u_step_start(n), self%u_step_end(n), self%guess(n))
       end if
       self%newton%max_iterations = options%max_newton_iterations
       self%newton%reuse_matrix = options%reuse_newton_matrix
       self%newton%estimate_error = options%newton_error_estimate
+      self%newton%exact_matrix = options%exact_newton_matrix
+      self%newton_whole%max_iterations = self%newton%max_iterations
+      self%newton_whole%reuse_matrix = self%newton%reuse_matrix
+      self%newton_whole%estimate_error = self%newton%estimate_error
+      self%newton_whole%exact_matrix = self%newton%exact_matrix
       self%estimate = options%error_estimate
       if (self%estimate == estimate_auto) then
          self%estimate = merge(estimate_embedded, estimate_doubling, &
@@ -131,6 +144,7 @@ contains
          call self%whole_step%restart()
          self%whole_step%counters = counters_type()
          self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
+         self%whole_newton_fraction = 0.1_dp/self%richardson
       end if
       self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit
       self%extrapolation_ready = .false.
@@ -276,10 +290,15 @@ contains
             newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
       end do
       if (self%estimate == estimate_doubling) then
+         do i = 1, size(u)
+            self%newton_whole%tolerance(i) = max(self%newton%tolerance(i), self%whole_newton_fraction*self%weights(i))
+         end do
+      end if
+      if (self%estimate == estimate_doubling) then
          call take_doubled_step()
       else
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
-         call run_scheme(scheme, t, h, u, self%u_new, self%delta)
+         call run_scheme(scheme, self%newton, t, h, u, self%u_new, self%delta)
          if (outcome /= attempt_accepted) return
          if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
             self%u_new = self%u_new + self%delta
@@ -309,7 +328,6 @@ contains
          self%h_previous = h
          if (self%extrapolate) then
             self%u_step_start = u
-            if (self%estimate == estimate_doubling) self%u_step_middle = self%u_half
             self%u_step_end = self%u_new
             self%extrapolation_ready = .true.
          end if
@@ -326,33 +344,38 @@ contains
          real(dp) :: half
          half = 0.5_dp*h
          if (self%extrapolate) call self%extrapolate_to(half, u, self%guess)
-         call run_scheme(scheme, t, half, u, self%u_half)
+         call run_scheme(scheme, self%newton, t, half, u, self%u_half)
          if (outcome /= attempt_accepted) return
          if (self%extrapolate) self%guess = 2.0_dp*self%u_half - u
-         call run_scheme(scheme, t + half, half, self%u_half, self%u_new)
+         call run_scheme(scheme, self%newton, t + half, half, self%u_half, self%u_new)
          if (outcome /= attempt_accepted) return
-         if (self%extrapolate) self%guess = self%u_new
-         call run_scheme(self%whole_step, t, h, u, self%u_whole)
+         ! the single step starts on its own (not from the halves' result): when a
+         ! Taylor scheme's polynomial equation has a spurious root, the two halves and
+         ! the single step then rarely agree on it, and err rejects the step
+         if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
+         call run_scheme(self%whole_step, self%newton_whole, t, h, u, self%u_whole)
          scheme%counters = scheme%counters + self%whole_step%counters
          self%whole_step%counters = counters_type()
          if (outcome /= attempt_accepted) return
          self%delta = self%richardson*(self%u_new - self%u_whole)
+         if (options%local_extrapolation) self%u_new = self%u_new + self%delta
       end subroutine take_doubled_step
 
-      !> One step of `stepper_scheme` from (t_from, u_from) into u_to (and the embedded
-      !> difference when `difference` is given), started from self%guess when
-      !> extrapolating; outcome says whether it succeeded or why not.
-      subroutine run_scheme(stepper_scheme, t_from, step, u_from, u_to, difference)
+      !> One step of `stepper_scheme` with Newton `settings` from (t_from, u_from) into
+      !> u_to (and the embedded difference when `difference` is given), started from
+      !> self%guess when extrapolating; outcome says whether it succeeded or why not.
+      subroutine run_scheme(stepper_scheme, settings, t_from, step, u_from, u_to, difference)
          class(scheme_type), intent(inout) :: stepper_scheme
+         type(newton_settings_type), intent(in) :: settings
          real(dp), intent(in) :: t_from, step, u_from(:)
          real(dp), intent(out) :: u_to(:)
          real(dp), intent(out), optional :: difference(:)
          call problem%clear_rejection()
          if (self%extrapolate) then
-            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, self%newton, step_stat, difference, &
+            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference, &
                self%guess)
          else
-            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, self%newton, step_stat, difference)
+            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference)
          end if
          if (problem%evaluation_rejected()) then
             call set_code(step_stat, status_evaluation_failed)
@@ -377,8 +400,11 @@ contains
    end subroutine attempt
 
    !> The Newton starting guess for the state a time `offset` after u, when
-   !> extrapolating and the last accepted step ended in u: the parabola through its
-   !> start, middle and end (step doubling), else the line through its start and end.
+   !> extrapolating and the last accepted step ended in u: the line through its start
+   !> and end, followed at most one step length further. (Extrapolating further, or
+   !> along a parabola, amplifies the change of the last step: on Robertson's long
+   !> steps that led Newton to spurious roots of the Taylor schemes' polynomial
+   !> equations, far from the solution.)
    pure subroutine extrapolate_to(self, offset, u, guess)
       !> The stepper
       class(stepper_type), intent(in) :: self
@@ -393,13 +419,8 @@ contains
          guess = u
          return
       end if
-      ratio = offset/self%h_previous
-      if (self%estimate == estimate_doubling) then
-         guess = (2.0_dp*ratio*(ratio + 0.5_dp))*self%u_step_start - (4.0_dp*ratio*(ratio + 1.0_dp))*self%u_step_middle &
-            + (2.0_dp*(ratio + 1.0_dp)*(ratio + 0.5_dp))*u
-      else
-         guess = u + ratio*(u - self%u_step_start)
-      end if
+      ratio = min(offset/self%h_previous, 1.0_dp)
+      guess = u + ratio*(u - self%u_step_start)
    end subroutine extrapolate_to
 
    !> Whether every entry of v is finite.

@@ -9,6 +9,10 @@
 !> illegal argument: it does nothing, so LAPACK returns its negative info instead
 !> of printing a message and stopping the program.
 !>
+!> `narrow_band_lu_factor` and `narrow_band_lu_solve` are dgbtrf's unblocked path
+!> (dgbtf2) and dgbtrs written out, operation for operation, for narrow bands (the
+!> solve optionally multiplies by the reciprocals of the pivots).
+!>
 !> Beside them, `small_lu_factor` and `small_lu_solve`: the same LU with partial
 !> pivoting (LAPACK's pivot choice and factor layout) written out for the tiny
 !> dense systems of stiff test problems (n of 2 to a few dozen), where the cost
@@ -23,11 +27,16 @@ module taylorode_linalg_lapack
    public :: lu_factor, lu_solve, band_lu_factor, band_lu_solve, lapack_error_handler
    public :: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, complex_band_lu_solve
    public :: small_lu_factor, small_lu_solve, small_lu_max_order
+   public :: narrow_band_lu_factor, narrow_band_lu_solve, narrow_band_max_width
 
    !> Largest order for which the written-out LU is used instead of LAPACK. With
    !> the netlib LAPACK and BLAS it factors 4x (n = 2) to 2x (n = 24) faster and
    !> solves 6x to 1.5x faster; complex factorizations draw level near n = 30.
    integer, parameter :: small_lu_max_order = 24
+   !> Largest lower bandwidth for which the written-out band LU (LAPACK's unblocked
+   !> dgbtf2, as dgbtrf runs it for such bands) replaces the call: below it, calling
+   !> BLAS once per column costs more than the column's arithmetic
+   integer, parameter :: narrow_band_max_width = 32
 
    !> LU factorization with partial pivoting written out (real or complex)
    interface small_lu_factor
@@ -124,6 +133,127 @@ contains
       if (kl < 0 .or. ku < 0 .or. size(ab, 1) /= 2*kl + ku + 1 .or. size(ipiv) < size(ab, 2)) return
       call dgbtrf(size(ab, 2), size(ab, 2), kl, ku, ab, size(ab, 1), ipiv, info)
    end subroutine band_lu_factor
+
+   !> Band LU factorization with partial pivoting in place, written out: LAPACK's
+   !> dgbtf2 (which dgbtrf runs for bands up to its block size) operation for
+   !> operation, without a BLAS call per column. Storage as `band_lu_factor`; the
+   !> caller checks the sizes. info = j > 0: U(j, j) is exactly zero.
+   pure subroutine narrow_band_lu_factor(ab, kl, ku, ipiv, info, inverse_diagonal)
+      !> Band matrix on entry, its LU factors on exit
+      real(dp), contiguous, intent(inout) :: ab(:, :)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: kl, ku
+      !> Pivot indices, size(ab, 2)
+      integer, contiguous, intent(out) :: ipiv(:)
+      !> 0 success, j > 0 singular (first zero pivot)
+      integer, intent(out) :: info
+      !> 1/U(j, j), for solves that multiply instead of dividing (the back substitution
+      !> chains one division per row)
+      real(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
+      integer :: n, kv, i, j, jp, ju, km, c
+      real(dp) :: largest, swap, reciprocal_pivot, factor
+
+      n = size(ab, 2)
+      kv = ku + kl
+      info = 0
+      ! the fill-in rows above the band start as zeros
+      do j = ku + 2, min(kv, n)
+         do i = kv - j + 2, kl
+            ab(i, j) = 0.0_dp
+         end do
+      end do
+      ju = 1
+      do j = 1, n
+         if (j + kv <= n) ab(1:kl, j + kv) = 0.0_dp
+         km = min(kl, n - j)
+         ! the pivot: the first entry of largest magnitude in A(j:j+km, j)
+         jp = 1
+         largest = abs(ab(kv + 1, j))
+         do i = 2, km + 1
+            if (abs(ab(kv + i, j)) > largest) then
+               largest = abs(ab(kv + i, j))
+               jp = i
+            end if
+         end do
+         ipiv(j) = jp + j - 1
+         if (ab(kv + jp, j) == 0.0_dp) then
+            if (info == 0) info = j
+            if (present(inverse_diagonal)) inverse_diagonal(j) = 0.0_dp
+            cycle
+         end if
+         ju = max(ju, min(j + ku + jp - 1, n))
+         ! rows j and j + jp - 1 exchanged in columns j to ju (A(r, c) is ab(kv + 1 + r - c, c))
+         if (jp /= 1) then
+            do c = j, ju
+               swap = ab(kv + jp - (c - j), c)
+               ab(kv + jp - (c - j), c) = ab(kv + 1 - (c - j), c)
+               ab(kv + 1 - (c - j), c) = swap
+            end do
+         end if
+         if (present(inverse_diagonal)) inverse_diagonal(j) = 1.0_dp/ab(kv + 1, j)
+         if (km > 0) then
+            reciprocal_pivot = 1.0_dp/ab(kv + 1, j)
+            do i = 1, km
+               ab(kv + 1 + i, j) = ab(kv + 1 + i, j)*reciprocal_pivot
+            end do
+            ! A(j+i, c) = A(j+i, c) + l_i (-A(j, c)), as dger computes it
+            do c = j + 1, ju
+               factor = -ab(kv + 1 - (c - j), c)
+               do i = 1, km
+                  ab(kv + 1 + i - (c - j), c) = ab(kv + 1 + i - (c - j), c) + ab(kv + 1 + i, j)*factor
+               end do
+            end do
+         end if
+      end do
+   end subroutine narrow_band_lu_factor
+
+   !> Solve A x = b with the factors of `narrow_band_lu_factor` (or `band_lu_factor`),
+   !> written out as LAPACK's dgbtrs computes it: the row interchanges and L forward,
+   !> then U backward with its kl + ku superdiagonals (dtbsv); b is overwritten by x.
+   pure subroutine narrow_band_lu_solve(ab, kl, ku, ipiv, b, inverse_diagonal)
+      !> LU factors
+      real(dp), contiguous, intent(in) :: ab(:, :)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: kl, ku
+      !> Pivot indices
+      integer, contiguous, intent(in) :: ipiv(:)
+      !> Right-hand side on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: b(:)
+      !> 1/U(j, j) from `narrow_band_lu_factor`: multiplied instead of dividing by U(j, j)
+      real(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
+      integer :: n, kd, j, i, l, lm
+      real(dp) :: swap, factor
+
+      n = size(ab, 2)
+      kd = kl + ku + 1
+      if (kl > 0) then
+         do j = 1, n - 1
+            lm = min(kl, n - j)
+            l = ipiv(j)
+            if (l /= j) then
+               swap = b(l)
+               b(l) = b(j)
+               b(j) = swap
+            end if
+            factor = -b(j)
+            do i = 1, lm
+               b(j + i) = b(j + i) + ab(kd + i, j)*factor
+            end do
+         end do
+      end if
+      do j = n, 1, -1
+         if (b(j) == 0.0_dp) cycle
+         if (present(inverse_diagonal)) then
+            b(j) = b(j)*inverse_diagonal(j)
+         else
+            b(j) = b(j)/ab(kd, j)
+         end if
+         factor = b(j)
+         do i = j - 1, max(1, j - kl - ku), -1
+            b(i) = b(i) - factor*ab(kd - j + i, j)
+         end do
+      end do
+   end subroutine narrow_band_lu_solve
 
    !> Solve A x = b with the factors from `band_lu_factor`; b is overwritten by x.
    pure subroutine band_lu_solve(ab, kl, ku, ipiv, b, info)

@@ -317,13 +317,13 @@ contains
       real(dp), intent(in) :: alpha
       real(dp), intent(in) :: x(:)
       real(dp), intent(inout) :: y(:)
-      integer :: i, j, shift
-      real(dp) :: ax
-      shift = self%kl + self%ku + 1
-      do j = 1, self%n
-         ax = alpha*x(j)
-         do i = max(1, j - self%ku), min(self%n, j + self%kl)
-            y(i) = y(i) + ax*self%ab(shift + i - j, j)
+      integer :: d, j, row
+      ! diagonal by diagonal (long loops instead of columns of kl + ku + 1 entries),
+      ! each y(i) still summed over j in increasing order
+      do d = self%kl, -self%ku, -1
+         row = self%kl + self%ku + 1 + d
+         do j = max(1, 1 - d), min(self%n, self%n - d)
+            y(j + d) = y(j + d) + (alpha*x(j))*self%ab(row, j)
          end do
       end do
    end subroutine band_multiply_add

@@ -5,7 +5,9 @@
 !> `small_lu_max_order` rows are factored by the written-out LU instead (LAPACK's
 !> pivots and factors; the solves multiply by the reciprocals of the pivots instead
 !> of dividing), without the cost of a LAPACK call, which exceeds the arithmetic at
-!> these sizes.
+!> these sizes. Band matrices with narrow bands likewise go through the written-out
+!> band LU (LAPACK's own operations, without a BLAS call per column; the solves
+!> multiply by the reciprocals of the pivots).
 module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
@@ -13,7 +15,8 @@ module taylorode_linalg_solver
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, new_matrix
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, &
-      small_lu_factor, small_lu_solve, small_lu_max_order
+      small_lu_factor, small_lu_solve, small_lu_max_order, narrow_band_lu_factor, narrow_band_lu_solve, &
+      narrow_band_max_width
    implicit none
    private
 
@@ -25,7 +28,7 @@ module taylorode_linalg_solver
       class(matrix_type), allocatable :: matrix
       !> Row interchanges of the factorization
       integer, allocatable :: pivots(:)
-      !> Reciprocals of the pivots (dense matrices factored by the written-out LU)
+      !> Reciprocals of the pivots (matrices factored by the written-out LU)
       real(dp), allocatable :: inverse_diagonal(:)
       !> Whether `matrix` holds valid factors
       logical :: factored = .false.
@@ -69,7 +72,11 @@ contains
             call lu_factor(a%a, self%pivots, info)
          end if
       type is (band_matrix_type)
-         call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)
+         if (a%kl <= narrow_band_max_width) then
+            call narrow_band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info, self%inverse_diagonal)
+         else
+            call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)
+         end if
       class default
          info = -1
       end select
@@ -101,7 +108,12 @@ contains
                call lu_solve(a%a, self%pivots, x, info)
             end if
          type is (band_matrix_type)
-            call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
+            if (a%kl <= narrow_band_max_width) then
+               call narrow_band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, self%inverse_diagonal)
+               info = 0
+            else
+               call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
+            end if
          end select
       end if
       if (info /= 0) call set_code(stat, status_invalid_argument)

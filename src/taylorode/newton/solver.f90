@@ -46,6 +46,9 @@ module taylorode_newton_solver
       !> first iteration), is within the tolerance (RADAU5's test); off: when the last
       !> increment is, with a second iteration whenever the matrix was kept
       logical :: estimate_error = .true.
+      !> Newton matrices with every term of the equation's derivative (i-t-2: the second
+      !> derivatives of F along F); off: the paper's matrices, which omit them
+      logical :: exact_matrix = .true.
    end type newton_settings_type
 
    !> A nonlinear system r(u) = 0 of a scheme, with the data of the current step

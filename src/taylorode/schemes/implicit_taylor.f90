@@ -3,8 +3,11 @@
 !>   i-t-1:  U1 = U0 + h F(U1)                               Newton matrix I - h J(U1)
 !>   i-t-2:  U1 = U0 + h F(U1) - h^2/2 J(U1) F(U1)           Newton matrix I - h J + h^2/2 J^2
 !>
-!> The i-t-2 matrix omits the second derivatives of F: Newton converges to the
-!> same U1, only its rate changes.
+!> The paper's i-t-2 matrix omits the second derivatives of F: Newton converges to
+!> the same U1, only its rate changes, and on stiff quadratic problems with long
+!> steps (Robertson) it diverges. Unless the Newton settings ask for the paper's
+!> matrices, the i-t-2 matrix is exact: I - h J + h^2/2 (J^2 + F''(U)[F(U)]), the
+!> last term the derivative of J along F, formed by differencing the Jacobians.
 module taylorode_schemes_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
@@ -30,6 +33,11 @@ module taylorode_schemes_implicit_taylor
       real(dp), allocatable :: f1(:), g1(:), rhs1(:)
       !> Jacobians at the current iterate (jac1 = J_f + J_g)
       class(matrix_type), allocatable :: jac_g1, jac1
+      !> i-t-2: whether the Newton matrix has the second-derivative term, the Jacobians
+      !> at U + epsilon F(U) and that point
+      logical :: second_derivatives = .true.
+      class(matrix_type), allocatable :: jac_probe, jac_g_probe
+      real(dp), allocatable :: probe(:)
    contains
       procedure :: residual => implicit_taylor_residual
       procedure :: newton_matrix => implicit_taylor_matrix
@@ -93,10 +101,14 @@ contains
       call self%newton(1)%init(n, self%structure, stat)
       call self%newton(2)%init(n, product_structure(self%structure, self%structure), stat)
       associate (system => self%system)
-         if (allocated(system%u0)) deallocate (system%u0, system%f1, system%g1, system%rhs1)
-         allocate (system%u0(n), system%f1(n), system%g1(n), system%rhs1(n))
+         if (allocated(system%u0)) deallocate (system%u0, system%f1, system%g1, system%rhs1, system%probe)
+         allocate (system%u0(n), system%f1(n), system%g1(n), system%rhs1(n), system%probe(n))
          call new_matrix(system%jac_g1, n, self%structure, stat)
          call new_matrix(system%jac1, n, self%structure, stat)
+         if (self%order == 2) then
+            call new_matrix(system%jac_probe, n, self%structure, stat)
+            call new_matrix(system%jac_g_probe, n, self%structure, stat)
+         end if
       end associate
       if (stat%code /= status_ok) self%n = 0
    end subroutine implicit_taylor_prepare
@@ -121,6 +133,7 @@ contains
       self%system%h = h
       self%system%u0(:) = u0
       self%system%order = self%order
+      self%system%second_derivatives = newton%exact_matrix
       if (present(guess)) then
          u1 = guess
       else
@@ -174,9 +187,23 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
+      real(dp) :: epsilon_f
+
       if (self%order /= 2) call jacobian_at(self, problem, u, counters)
       call matrix%add_scaled(-self%h, self%jac1, stat)
-      if (self%order == 2) call matrix%add_product(0.5_dp*self%h*self%h, self%jac1, self%jac1, stat)
+      if (self%order == 2) then
+         call matrix%add_product(0.5_dp*self%h*self%h, self%jac1, self%jac1, stat)
+         if (self%second_derivatives .and. allocated(self%jac_probe)) then
+            ! F''(U)[F] = (J(U + e F) - J(U)) / e, e F of the size of sqrt(eps) |U|
+            epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
+            self%probe = u + epsilon_f*self%rhs1
+            call evaluate_jac_f(problem, self%t1, self%probe, self%jac_probe, counters)
+            call evaluate_jac_g(problem, self%t1, self%probe, self%jac_g_probe, counters)
+            call self%jac_probe%add_scaled(1.0_dp, self%jac_g_probe, stat)
+            call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
+            call matrix%add_scaled(0.5_dp*self%h*self%h/epsilon_f, self%jac_probe, stat)
+         end if
+      end if
       call matrix%add_identity(1.0_dp)
    end subroutine implicit_taylor_matrix
 
