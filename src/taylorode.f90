@@ -1,4 +1,4 @@
-!> taylorode: one-step Taylor schemes for stiff ODEs U' = f(t, U) + g(t, U),
+!> The taylorode library, one-step Taylor schemes for stiff ODEs U' = f(t, U) + g(t, U),
 !> f non-stiff (explicit), g stiff (implicit).
 !>
 !> A tour:

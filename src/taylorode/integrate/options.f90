@@ -67,7 +67,7 @@ module taylorode_integrate_options
       !> Safety factor kappa in (0, 1]
       real(dp) :: kappa = default_kappa
       !> Order exponent q of the controller, in [1, 20]; 0 takes it from the scheme pair
-      !> (lower order + 1, which is 2 for every pair here)
+      !> (its lower order + 1: 2 for the Taylor pairs and imex-rk21, 4 for radau5)
       real(dp) :: q = 0.0_dp
       !> First step size; 0 chooses it from the initial data (h0 = 0.01 |U0|_w / |F(U0)|_w)
       real(dp) :: h0 = 0.0_dp

@@ -42,8 +42,10 @@ module taylorode_schemes_implicit_taylor
       !> Newton's method for each member (by order), each with its own matrix
       type(newton_solver_type) :: newton(2)
    contains
+      !> One step of i-t-1 or i-t-2 and, when asked, the embedded difference
       procedure :: advance => implicit_taylor_advance
       procedure :: prepare => implicit_taylor_prepare
+      !> Forget the factored Newton matrix kept between steps
       procedure :: restart => implicit_taylor_restart
       procedure :: stability => implicit_taylor_stability
    end type implicit_taylor_type

@@ -12,9 +12,13 @@ module taylorode_testset_hires
    !> g = the linear exchange terms.
    type, extends(test_problem_type) :: hires_type
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => hires_f
+      !> Stiff part g
       procedure :: g => hires_g
+      !> df/dU, analytic
       procedure :: jac_f => hires_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => hires_jac_g
    end type hires_type
 
