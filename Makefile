@@ -10,6 +10,8 @@
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
+#   make figures         every number and figure of the README regenerated with the machine's description
+#                        (tools/figures.sh: out/, docs/*.png, README blocks; FULL=1 adds the full runs)
 #   make docs            the API documentation of src/ with FORD (installed into .venv if missing) in
 #                        build/docs; fails on an undocumented public entity or a FORD warning
 #
@@ -55,7 +57,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install docs
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install docs figures
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -100,3 +102,6 @@ build: setup
 
 docs: setup
 	@bash tools/docs.sh
+
+figures: setup
+	@bash tools/figures.sh
