@@ -59,7 +59,7 @@ contains
       real(dp), intent(out) :: band(:, :)
       real(dp) :: c
       c = self%diffusion*real(size(u) + 1, dp)**2
-      band(1, :) = c                  ! band(1, 1) lies outside the matrix: never read
+      band(1, :) = c                  ! band(1, 1) lies outside the matrix: not used
       band(2, :) = -2.0_dp*c
       band(3, :) = c                  ! band(3, n) likewise
    end subroutine diffusion_band
