@@ -10,6 +10,10 @@
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
+#   make figures         every number and figure of the README regenerated with the machine's description
+#                        (tools/figures.sh: out/, docs/*.png, README blocks; FULL=1 adds the full runs)
+#   make docs            the API documentation of src/ with FORD (installed into .venv if missing) in
+#                        build/docs; fails on an undocumented public entity or a FORD warning
 #
 # ARGS is passed to the program: make test ARGS="schemes", make run ARGS="vdp --help".
 # Each flag set builds in its own build/gfortran_<hash> directory.
@@ -53,7 +57,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install docs figures
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -95,3 +99,9 @@ install: setup
 build: setup
 	fpm build
 	fpm build --profile release
+
+docs: setup
+	@bash tools/docs.sh
+
+figures: setup
+	@bash tools/figures.sh

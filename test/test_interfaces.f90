@@ -1,9 +1,10 @@
 !> The interfaces for the codes that use the library, exercised as their users would:
 !> the F77 program (built with pkg-config, the same as its RADAU5 version but for the
 !> CALL line), the C program (built by its plain Makefile) and the Python script
-!> (ctypes and numpy), each against an installed library. `make test` installs into
-!> build/install and says where through TAYLORODE_PREFIX; without it these tests are
-!> skipped with that message.
+!> (ctypes and numpy), each against an installed library, a Fortran program linked by
+!> the README's command line; and the README's code, which must be the examples' code.
+!> `make test` installs into build/install and says where through TAYLORODE_PREFIX;
+!> without it the tests that need the installation are skipped with that message.
 module test_interfaces
    use testdrive, only: new_unittest, unittest_type, error_type, check, skip_test
    use test_support, only: scratch, run_type, run_command, read_lines, line_type, has_line, stat_message
@@ -12,7 +13,7 @@ module test_interfaces
       status_singular_matrix, status_newton_diverged, status_newton_not_converged, status_step_underflow, &
       status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol
-   use taylorode_base_strings, only: format_real
+   use taylorode_base_strings, only: format_real, format_integer
    implicit none
    private
 
@@ -27,7 +28,9 @@ contains
          new_unittest("c-header-status-codes", test_header_codes), &
          new_unittest("legacy-f77-robertson", test_legacy_robertson), &
          new_unittest("c-van-der-pol", test_c_van_der_pol), &
-         new_unittest("python-van-der-pol", test_python_van_der_pol) &
+         new_unittest("python-van-der-pol", test_python_van_der_pol), &
+         new_unittest("fortran-link-line", test_fortran_link_line), &
+         new_unittest("readme-code-is-example-code", test_readme_code) &
          ]
    end subroutine collect_interfaces
 
@@ -214,5 +217,83 @@ contains
       call check(error, found .and. maxval(abs(python - u)) <= 1.0e-14_dp*maxval(abs(u)), &
          "Python and Fortran differ: "//format_real(maxval(abs(python - u)), 3))
    end subroutine test_python_van_der_pol
+
+   !> A Fortran program built against the installation with the README's command line
+   !> (gfortran -I$PREFIX/include ... -L$PREFIX/lib -Wl,-rpath,$PREFIX/lib -ltaylorode
+   !> -llapack -lblas) runs and solves Robertson's problem.
+   subroutine test_fortran_link_line(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      character(len=:), allocatable :: prefix
+      if (missing_installation(error)) return
+      prefix = installation()
+      call run_command("root=$PWD && mkdir -p "//scratch//"/link && cd "//scratch//"/link && "// &
+         "gfortran -I"//prefix//"/include $root/example/own_problem.f90 -L"//prefix//"/lib -Wl,-rpath,"// &
+         prefix//"/lib -ltaylorode -llapack -lblas -o own_problem && ./own_problem", run)
+      call check(error, run%exit_status, 0, "build or run against the installation failed")
+      if (allocated(error)) return
+      call check(error, has_line(run%stdout, "u(40) ="), "the program printed no result")
+   end subroutine test_fortran_link_line
+
+   !> Every ```fortran, ```c and ```python block of README.md is, line for line, part of
+   !> a file in example/ (which fpm build, make test and the tests above compile and run),
+   !> so that the README shows code that compiles.
+   subroutine test_readme_code(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(line_type), allocatable :: readme(:), block(:)
+      type(run_type) :: files
+      integer :: k, first, blocks
+      character(len=:), allocatable :: fence
+
+      call read_lines("README.md", readme)
+      call check(error, size(readme) > 0, "README.md not found (run the tests from the project root)")
+      if (allocated(error)) return
+      call run_command("find example -type f \( -name '*.f90' -o -name '*.f' -o -name '*.c' -o -name '*.py' \) "// &
+         "| sort", files)
+      call check(error, files%exit_status == 0 .and. size(files%stdout) > 0, "no files found in example/")
+      if (allocated(error)) return
+      blocks = 0
+      k = 1
+      do while (k <= size(readme))
+         fence = trim(readme(k)%text)
+         if (fence /= "```fortran" .and. fence /= "```c" .and. fence /= "```python") then
+            k = k + 1
+            cycle
+         end if
+         first = k + 1
+         k = first
+         do while (k <= size(readme))
+            if (trim(readme(k)%text) == "```") exit
+            k = k + 1
+         end do
+         block = readme(first:k - 1)
+         blocks = blocks + 1
+         call check(error, size(block) > 0 .and. in_some_file(block, files%stdout), "README.md line "// &
+            format_integer(first)//": this block is not part of any file in example/: "//readme(first)%text)
+         if (allocated(error)) return
+         k = k + 1
+      end do
+      call check(error, blocks > 0, "README.md has no code blocks")
+   end subroutine test_readme_code
+
+   !> Whether the lines of `block` occur one after another in one of the files.
+   logical function in_some_file(block, paths) result(found)
+      type(line_type), intent(in) :: block(:), paths(:)
+      type(line_type), allocatable :: lines(:)
+      integer :: p, start, i
+      found = .false.
+      do p = 1, size(paths)
+         call read_lines(paths(p)%text, lines)
+         do start = 1, size(lines) - size(block) + 1
+            do i = 1, size(block)
+               if (lines(start + i - 1)%text /= block(i)%text) exit
+            end do
+            if (i > size(block)) then
+               found = .true.
+               return
+            end if
+         end do
+      end do
+   end function in_some_file
 
 end module test_interfaces

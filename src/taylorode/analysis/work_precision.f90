@@ -25,6 +25,7 @@ module taylorode_analysis_work_precision
    abstract interface
       !> Called with a short message before a run that may take more than a second
       subroutine progress_interface(message)
+         !> What is about to run
          character(len=*), intent(in) :: message
       end subroutine progress_interface
    end interface
@@ -66,8 +67,9 @@ module taylorode_analysis_work_precision
       real(dp) :: tol = 0.0_dp
       !> Accepted and rejected steps
       integer(i8) :: accepted = 0, rejected = 0
-      !> Median CPU seconds and runs made
+      !> Median CPU seconds
       real(dp) :: cpu_seconds = 0.0_dp
+      !> Timed runs made
       integer :: runs = 0
       !> Status code of the run
       integer :: status = status_ok

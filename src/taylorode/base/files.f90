@@ -31,11 +31,13 @@ module taylorode_base_files
       integer(c_int) :: descriptor = -1_c_int
       !> Whether the destination itself is being written
       logical :: in_place = .false.
-      !> Bytes not yet written (allocated when the file is opened), and how many
+      !> Bytes not yet written (allocated when the file is opened)
       character(len=:), allocatable :: buffer
+      !> How many bytes of the buffer are in use
       integer :: used = 0
-      !> First error (0: none) and what it was
+      !> First error (0: none)
       integer :: io_error = 0
+      !> What the first error was
       character(len=256) :: io_message = ""
    contains
       !> Start writing `path` (to a temporary file in the same directory)

@@ -54,6 +54,7 @@ contains
 
    !> True when the status reports success.
    elemental function status_is_ok(self) result(ok)
+      !> The status
       class(status_type), intent(in) :: self
       logical :: ok
       ok = self%code == status_ok

@@ -1,4 +1,4 @@
-!> Events: user functions e_i(t, U) whose zero crossings are located on the dense
+!> Events are user functions e_i(t, U) whose zero crossings are located on the dense
 !> output of each accepted step (the cubic Hermite interpolant) by the Illinois
 !> variant of regula falsi, with a direction filter (rising, falling or both) and a
 !> terminal flag (the integration stops at the first terminal crossing, at the
@@ -39,8 +39,9 @@ module taylorode_integrate_events
       real(dp) :: time_tolerance = 0.0_dp
       !> Crossings found so far
       integer :: found = 0
-      !> Which function crossed, when, and the state there (one column per crossing)
+      !> Which function crossed, one entry per crossing
       integer, allocatable :: found_index(:)
+      !> When it crossed, and the state there (one column per crossing)
       real(dp), allocatable :: found_t(:), found_u(:, :)
       !> The index of the terminal function that stopped the last integration (0: none)
       integer :: stopped_by = 0
@@ -154,8 +155,9 @@ contains
       type(accepted_step_type), intent(in) :: step
       !> Whether a terminal crossing stops the integration inside the step
       logical, intent(out) :: stop
-      !> Where it stops
+      !> When it stops
       real(dp), intent(out) :: t_stop
+      !> The state there, from the step's interpolant
       real(dp), intent(inout) :: u_stop(:)
       !> status_nonfinite when an event function is NaN or Inf
       type(status_type), intent(inout) :: stat

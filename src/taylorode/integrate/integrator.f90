@@ -44,8 +44,9 @@ module taylorode_integrate_integrator
       real(dp) :: t = 0.0_dp, h = 0.0_dp
       !> Statistics since init (each call also returns its own)
       type(integration_stats_type) :: total
-      !> Unknowns, and whether init succeeded
+      !> Unknowns
       integer :: n = 0
+      !> Whether init succeeded (advance_to refuses to run otherwise)
       logical :: ready = .false.
       !> Name of the scheme init prepared (later calls must pass the same scheme)
       character(len=:), allocatable :: scheme_name

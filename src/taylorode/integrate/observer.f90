@@ -1,4 +1,4 @@
-!> Observers: user code called after every accepted step with the step (its end
+!> Observers are user code called after every accepted step with the step (its end
 !> state and, through `step%interpolate`, the solution anywhere inside it), which may
 !> ask the integration to stop there. The step history remains for those who want
 !> every attempt stored.

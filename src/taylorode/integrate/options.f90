@@ -88,7 +88,8 @@ module taylorode_integrate_options
       !> Order exponent q of the controller, in [1, 20]; 0 takes it from the estimate
       !> (step doubling: the scheme's order + 1; embedded pair: lower order + 1)
       real(dp) :: q = 0.0_dp
-      !> First step size; 0 chooses it from the initial data (h0 = 0.01 |U0|_w / |F(U0)|_w)
+      !> First step size; 0 chooses it from the initial data (Hairer's HINIT: first and
+      !> second derivatives at U0, one Euler step)
       real(dp) :: h0 = 0.0_dp
       !> Smallest step size allowed (0: only the roundoff limit of t applies)
       real(dp) :: h_min = 0.0_dp

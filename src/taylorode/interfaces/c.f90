@@ -26,8 +26,12 @@ module taylorode_interfaces_c
 
    !> What taylorode_get_stats fills (taylorode_stats_t in the header)
    type, bind(c) :: taylorode_stats_c
+      !> Accepted and rejected (or failed) steps, evaluations of f and of g, Jacobian
+      !> evaluations (of df/dU and dg/dU together), LU factorizations, linear solves
+      !> and Newton iterations since taylorode_init
       integer(c_long) :: accepted_steps, rejected_steps, f_evaluations, g_evaluations, jacobian_evaluations, &
          lu_factorizations, linear_solves, newton_iterations
+      !> Time reached, the step size the next call starts with, CPU seconds since taylorode_init
       real(c_double) :: t_reached, h_next, cpu_seconds
    end type taylorode_stats_c
 
@@ -120,7 +124,7 @@ contains
       code = int(stat%code, c_int)
    end function remember
 
-   !> taylorode_create: a handle for `scheme` and n unknowns, or null (the status in *status).
+   !> `taylorode_create`: a handle for `scheme` and n unknowns, or null (the status in *status).
    function taylorode_create(scheme, n, status) result(handle) bind(c, name="taylorode_create")
       character(kind=c_char), intent(in) :: scheme(*)
       integer(c_int), value :: n
@@ -144,7 +148,7 @@ contains
       handle = c_loc(session)
    end function taylorode_create
 
-   !> taylorode_free: release a handle (null is fine).
+   !> `taylorode_free`: release a handle (null is fine).
    subroutine taylorode_free(handle) bind(c, name="taylorode_free")
       type(c_ptr), value :: handle
       type(session_type), pointer :: session
@@ -152,7 +156,7 @@ contains
       if (associated(session)) deallocate (session)
    end subroutine taylorode_free
 
-   !> taylorode_set_functions: f and g (NULL: zero), their Jacobians (NULL: differences).
+   !> `taylorode_set_functions`: f and g (NULL: zero), their Jacobians (NULL: differences).
    integer(c_int) function taylorode_set_functions(handle, f, g, jac_f, jac_g, user_data) result(code) &
       bind(c, name="taylorode_set_functions")
       type(c_ptr), value :: handle, user_data
@@ -169,7 +173,7 @@ contains
       code = status_ok
    end function taylorode_set_functions
 
-   !> taylorode_set_bandwidths: banded Jacobians (the callbacks then fill band storage,
+   !> `taylorode_set_bandwidths`: banded Jacobians (the callbacks then fill band storage,
    !> jac[(upper + i - j) + (lower + upper + 1) j] = d part_i / d u_j, 0-based).
    integer(c_int) function taylorode_set_bandwidths(handle, lower, upper) result(code) &
       bind(c, name="taylorode_set_bandwidths")
@@ -187,7 +191,7 @@ contains
       code = status_ok
    end function taylorode_set_bandwidths
 
-   !> taylorode_set_tolerances: scalar rtol and atol.
+   !> `taylorode_set_tolerances`: scalar rtol and atol.
    integer(c_int) function taylorode_set_tolerances(handle, rtol, atol) result(code) &
       bind(c, name="taylorode_set_tolerances")
       type(c_ptr), value :: handle
@@ -203,7 +207,7 @@ contains
       code = status_ok
    end function taylorode_set_tolerances
 
-   !> taylorode_set_tolerance_vectors: rtol and atol per component (n each).
+   !> `taylorode_set_tolerance_vectors`: rtol and atol per component (n each).
    integer(c_int) function taylorode_set_tolerance_vectors(handle, rtol, atol) result(code) &
       bind(c, name="taylorode_set_tolerance_vectors")
       type(c_ptr), value :: handle
@@ -217,7 +221,7 @@ contains
       code = status_ok
    end function taylorode_set_tolerance_vectors
 
-   !> taylorode_set_option: a real or whole-number option by name ("h0", "h_min",
+   !> `taylorode_set_option`: a real or whole-number option by name ("h0", "h_min",
    !> "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction", "max_steps",
    !> "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0 or 1),
    !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)). The integrator
@@ -265,7 +269,7 @@ contains
       code = status_ok
    end function taylorode_set_option
 
-   !> taylorode_init: start at (t0, u0) with the current settings.
+   !> `taylorode_init`: start at (t0, u0) with the current settings.
    integer(c_int) function taylorode_init(handle, t0, u0) result(code) bind(c, name="taylorode_init")
       type(c_ptr), value :: handle
       real(c_double), value :: t0
@@ -285,7 +289,7 @@ contains
       code = remember(session, stat)
    end function taylorode_init
 
-   !> taylorode_advance_to: continue to t; u holds the state at the current time on
+   !> `taylorode_advance_to`: continue to t; u holds the state at the current time on
    !> entry (it may have been changed) and at t on exit.
    integer(c_int) function taylorode_advance_to(handle, t, u) result(code) bind(c, name="taylorode_advance_to")
       type(c_ptr), value :: handle
@@ -300,7 +304,7 @@ contains
       code = remember(session, stat)
    end function taylorode_advance_to
 
-   !> taylorode_integrate: from t0 to t_end in one call (init, then advance_to).
+   !> `taylorode_integrate`: from t0 to t_end in one call (init, then advance_to).
    integer(c_int) function taylorode_integrate(handle, t0, t_end, u) result(code) bind(c, name="taylorode_integrate")
       type(c_ptr), value :: handle
       real(c_double), value :: t0, t_end
@@ -310,7 +314,7 @@ contains
       code = taylorode_advance_to(handle, t_end, u)
    end function taylorode_integrate
 
-   !> taylorode_get_stats: the statistics since taylorode_init.
+   !> `taylorode_get_stats`: the statistics since taylorode_init.
    integer(c_int) function taylorode_get_stats(handle, stats) result(code) bind(c, name="taylorode_get_stats")
       type(c_ptr), value :: handle
       type(taylorode_stats_c), intent(out) :: stats
@@ -334,7 +338,7 @@ contains
       code = status_ok
    end function taylorode_get_stats
 
-   !> taylorode_message: the message of the last call that set a status ("" when it
+   !> `taylorode_message`: the message of the last call that set a status ("" when it
    !> succeeded), valid until the next call on the handle.
    function taylorode_message(handle) result(text) bind(c, name="taylorode_message")
       type(c_ptr), value :: handle

@@ -50,23 +50,48 @@ module taylorode_interfaces_legacy
       !> F = right-hand side (or its non-stiff or stiff part) at (X, Y)
       subroutine fcn_interface(n, x, y, f, rpar, ipar)
          import :: dp
+         !> Unknowns
          integer :: n
-         real(dp) :: x, y(n), f(n), rpar(*)
+         !> Time and state (copies: the routine may write them)
+         real(dp) :: x, y(n)
+         !> The value at (x, y)
+         real(dp) :: f(n)
+         !> The caller's real data, passed through untouched
+         real(dp) :: rpar(*)
+         !> The caller's integer data, passed through untouched
          integer :: ipar(*)
       end subroutine fcn_interface
       !> DFY = its Jacobian (dense LDFY x N, or band storage)
       subroutine jac_interface(n, x, y, dfy, ldfy, rpar, ipar)
          import :: dp
+         !> Unknowns, and the leading dimension of dfy (n dense, mljac + mujac + 1 band)
          integer :: n, ldfy
-         real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+         !> Time and state (copies: the routine may write them)
+         real(dp) :: x, y(n)
+         !> The Jacobian: dfy(i, j) = d part_i / d y_j, or dfy(i - j + mujac + 1, j) in band storage
+         real(dp) :: dfy(ldfy, n)
+         !> The caller's real data, passed through untouched
+         real(dp) :: rpar(*)
+         !> The caller's integer data, passed through untouched
          integer :: ipar(*)
       end subroutine jac_interface
       !> Called after each accepted step (and once at the start)
       subroutine solout_interface(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
          import :: dp
-         integer :: nr, lrc, n, irtrn
-         real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+         !> Number of the call (1 at the start), length of cont, unknowns
+         integer :: nr, lrc, n
+         !> Start and end of the step just accepted (both the start time on the first call)
+         real(dp) :: xold, x
+         !> State at x
+         real(dp) :: y(n)
+         !> The step, for TAYLORODE_CONTR
+         real(dp) :: cont(lrc)
+         !> The caller's real data, passed through untouched
+         real(dp) :: rpar(*)
+         !> The caller's integer data, passed through untouched
          integer :: ipar(*)
+         !> Set it negative to stop the integration
+         integer :: irtrn
       end subroutine solout_interface
    end interface
 
@@ -127,20 +152,29 @@ contains
       real(dp), intent(in) :: xend
       !> First step size on entry (0: automatic), the next one on exit
       real(dp), intent(inout) :: h
-      !> Tolerances: scalars (itol = 0) or arrays of n (itol = 1)
+      !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol = 1)
       real(dp), intent(in) :: rtol(*), atol(*)
+      !> 0 for scalar tolerances, 1 for one per component
       integer, intent(in) :: itol
       !> Jacobians of f and g, used when ijac_f, ijac_g = 1
       procedure(jac_interface) :: jac_f, jac_g
-      integer, intent(in) :: ijac_f, ijac_g, mljac, mujac
+      !> Whether jac_f and jac_g are given (1) or differences are used (0)
+      integer, intent(in) :: ijac_f, ijac_g
+      !> Lower and upper bandwidths of the Jacobians (mljac >= n: dense)
+      integer, intent(in) :: mljac, mujac
       !> Called after every accepted step when iout = 1
       procedure(solout_interface) :: solout
-      integer, intent(in) :: iout, lwork, liwork
-      !> Inputs and statistics (see the module comment)
+      !> 1 to call solout, 0 not to
+      integer, intent(in) :: iout
+      !> Lengths of work and iwork (at least 20 each)
+      integer, intent(in) :: lwork, liwork
+      !> Real inputs (see the module comment)
       real(dp), intent(inout) :: work(*)
+      !> Integer inputs and statistics (see the module comment)
       integer, intent(inout) :: iwork(*)
-      !> Passed to the user's routines untouched
+      !> Real data passed to the user's routines untouched
       real(dp), intent(inout), target :: rpar(*)
+      !> Integer data passed to the user's routines untouched
       integer, intent(inout), target :: ipar(*)
       !> Outcome
       integer, intent(out) :: idid
@@ -301,8 +335,9 @@ contains
       integer, intent(in) :: i
       !> Time inside the step
       real(dp), intent(in) :: s
-      !> The step as SOLOUT received it
+      !> Length of cont
       integer, intent(in) :: lrc
+      !> The step as SOLOUT received it
       real(dp), intent(in) :: cont(lrc)
       real(dp) :: u(1)
       integer :: n
@@ -436,24 +471,59 @@ contains
 
 end module taylorode_interfaces_legacy
 
-!> TAYLORODE: RADAU5's argument list with the scheme's name in front; FCN is the
+!> TAYLORODE, RADAU5's argument list with the scheme's name in front; FCN is the
 !> whole right-hand side, treated as stiff (see module taylorode_interfaces_legacy).
 subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac, mljac, mujac, mas, imas, mlmas, &
    mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
    use taylorode_base_kinds, only: dp
    use taylorode_interfaces_legacy, only: legacy_solve, fcn_interface, jac_interface, solout_interface
    implicit none
+   !> Scheme name, as users type it ('radau5', 'i-t-2', ...)
    character(len=*), intent(in) :: scheme
-   integer, intent(in) :: n, itol, ijac, mljac, mujac, imas, mlmas, mumas, iout, lwork, liwork
+   !> Unknowns
+   integer, intent(in) :: n
+   !> The right-hand side, FCN(N, X, Y, F, RPAR, IPAR)
    procedure(fcn_interface) :: fcn
+   !> Start time on entry, where the integration stopped on exit
+   real(dp), intent(inout) :: x
+   !> State at x
+   real(dp), intent(inout) :: y(n)
+   !> Final time, > x
+   real(dp), intent(in) :: xend
+   !> First step size on entry (0: automatic), the next one on exit
+   real(dp), intent(inout) :: h
+   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol = 1)
+   real(dp), intent(in) :: rtol(*), atol(*)
+   !> 0 for scalar tolerances, 1 for one per component
+   integer, intent(in) :: itol
+   !> The Jacobian, JAC(N, X, Y, DFY, LDFY, RPAR, IPAR), called when ijac = 1
    procedure(jac_interface) :: jac
-   external :: mas
+   !> 1: jac is given, 0: forward differences
+   integer, intent(in) :: ijac
+   !> Lower and upper bandwidths of the Jacobian (mljac >= n: dense)
+   integer, intent(in) :: mljac, mujac
+   !> The mass matrix routine of RADAU5's list (never called)
+   procedure() :: mas
+   !> 0 (no mass matrix); anything else is an error (idid = -1)
+   integer, intent(in) :: imas
+   !> Bandwidths of the mass matrix (ignored)
+   integer, intent(in) :: mlmas, mumas
+   !> Called after every accepted step when iout = 1
    procedure(solout_interface) :: solout
-   real(dp), intent(inout) :: x, y(n), h, work(*)
-   real(dp), intent(in) :: xend, rtol(*), atol(*)
+   !> 1 to call solout, 0 not to
+   integer, intent(in) :: iout
+   !> Real inputs: work(2) safety factor, work(7) largest step (0: defaults)
+   real(dp), intent(inout) :: work(*)
+   !> Integer inputs and statistics: iwork(2) step budget, iwork(3) Newton iterations;
+   !> iwork(14:20) evaluations, Jacobians, steps, accepted, rejected, LU, solves
    integer, intent(inout) :: iwork(*)
+   !> Lengths of work and iwork (at least 20 each)
+   integer, intent(in) :: lwork, liwork
+   !> Real data passed to the user's routines untouched
    real(dp), intent(inout), target :: rpar(*)
+   !> Integer data passed to the user's routines untouched
    integer, intent(inout), target :: ipar(*)
+   !> 1 success, 2 stopped by solout, < 0 failure (see the module comment)
    integer, intent(out) :: idid
    if (imas /= 0) then
       idid = -1
@@ -463,36 +533,71 @@ subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac,
       solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
 end subroutine taylorode
 
-!> TAYLORODE_SPLIT: f (FCNF, explicit in the semi-implicit schemes) and g (FCNG, stiff)
-!> apart, each with its Jacobian (IJACF, IJACG = 0: differences).
+!> TAYLORODE_SPLIT, with f (FCNF, explicit in the semi-implicit schemes) and g (FCNG,
+!> stiff) apart, each with its Jacobian (IJACF, IJACG = 0: differences).
 subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, mljac, &
    mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
    use taylorode_base_kinds, only: dp
    use taylorode_interfaces_legacy, only: legacy_solve, fcn_interface, jac_interface, solout_interface
    implicit none
+   !> Scheme name, as users type it ('si-t-2', 'imex-rk21', ...)
    character(len=*), intent(in) :: scheme
-   integer, intent(in) :: n, itol, ijacf, ijacg, mljac, mujac, iout, lwork, liwork
+   !> Unknowns
+   integer, intent(in) :: n
+   !> The non-stiff part f and the stiff part g, FCNF(N, X, Y, F, RPAR, IPAR)
    procedure(fcn_interface) :: fcnf, fcng
+   !> Start time on entry, where the integration stopped on exit
+   real(dp), intent(inout) :: x
+   !> State at x
+   real(dp), intent(inout) :: y(n)
+   !> Final time, > x
+   real(dp), intent(in) :: xend
+   !> First step size on entry (0: automatic), the next one on exit
+   real(dp), intent(inout) :: h
+   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol = 1)
+   real(dp), intent(in) :: rtol(*), atol(*)
+   !> 0 for scalar tolerances, 1 for one per component
+   integer, intent(in) :: itol
+   !> The Jacobians of f and g, called when ijacf = 1 and ijacg = 1
    procedure(jac_interface) :: jacf, jacg
+   !> 1: the Jacobian is given, 0: forward differences
+   integer, intent(in) :: ijacf, ijacg
+   !> Lower and upper bandwidths of both Jacobians (mljac >= n: dense)
+   integer, intent(in) :: mljac, mujac
+   !> Called after every accepted step when iout = 1
    procedure(solout_interface) :: solout
-   real(dp), intent(inout) :: x, y(n), h, work(*)
-   real(dp), intent(in) :: xend, rtol(*), atol(*)
+   !> 1 to call solout, 0 not to
+   integer, intent(in) :: iout
+   !> Real inputs (as TAYLORODE)
+   real(dp), intent(inout) :: work(*)
+   !> Integer inputs and statistics (as TAYLORODE)
    integer, intent(inout) :: iwork(*)
+   !> Lengths of work and iwork (at least 20 each)
+   integer, intent(in) :: lwork, liwork
+   !> Real data passed to the user's routines untouched
    real(dp), intent(inout), target :: rpar(*)
+   !> Integer data passed to the user's routines untouched
    integer, intent(inout), target :: ipar(*)
+   !> 1 success, 2 stopped by solout, < 0 failure (see the module comment)
    integer, intent(out) :: idid
    call legacy_solve(scheme, n, fcnf, fcng, .true., x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, mljac, &
       mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
 end subroutine taylorode_split
 
-!> TAYLORODE_CONTR(I, S, CONT, LRC): component I at S inside the step SOLOUT was given
-!> (RADAU5's CONTR5).
+!> TAYLORODE_CONTR(I, S, CONT, LRC), component I at S inside the step SOLOUT was
+!> given (RADAU5's CONTR5), from the step's cubic Hermite interpolant.
 function taylorode_contr(i, s, cont, lrc) result(value)
    use taylorode_base_kinds, only: dp
    use taylorode_interfaces_legacy, only: legacy_interpolate
    implicit none
-   integer, intent(in) :: i, lrc
-   real(dp), intent(in) :: s, cont(lrc)
+   !> Component
+   integer, intent(in) :: i
+   !> Length of cont
+   integer, intent(in) :: lrc
+   !> Time inside the step
+   real(dp), intent(in) :: s
+   !> The step as SOLOUT received it
+   real(dp), intent(in) :: cont(lrc)
    real(dp) :: value
    value = legacy_interpolate(i, s, cont, lrc)
 end function taylorode_contr

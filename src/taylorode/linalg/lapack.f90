@@ -1,4 +1,4 @@
-!> LAPACK: the only module that calls it.
+!> The LAPACK layer, the only module that calls LAPACK.
 !>
 !> Explicit interfaces to dgetrf/dgetrs (dense) and dgbtrf/dgbtrs (band), their
 !> complex counterparts zgetrf/zgetrs and zgbtrf/zgbtrs, and assumed-shape

@@ -55,11 +55,17 @@ module taylorode_linalg_matrix
       !> Entries
       real(dp), allocatable :: a(:, :)
    contains
+      !> Storage and bandwidths
       procedure :: structure => dense_structure_of
+      !> y = y + alpha A x
       procedure :: multiply_add => dense_multiply_add
+      !> A = 0
       procedure :: set_zero => dense_set_zero
+      !> A = A + alpha B
       procedure :: add_scaled => dense_add_scaled
+      !> A = A + alpha B C
       procedure :: add_product => dense_add_product
+      !> A = A + alpha I
       procedure :: add_identity => dense_add_identity
    end type dense_matrix_type
 
@@ -71,11 +77,17 @@ module taylorode_linalg_matrix
       !> Band storage, (2 kl + ku + 1) x n
       real(dp), allocatable :: ab(:, :)
    contains
+      !> Storage and bandwidths
       procedure :: structure => band_structure_of
+      !> y = y + alpha A x
       procedure :: multiply_add => band_multiply_add
+      !> A = 0
       procedure :: set_zero => band_set_zero
+      !> A = A + alpha B
       procedure :: add_scaled => band_add_scaled
+      !> A = A + alpha B C
       procedure :: add_product => band_add_product
+      !> A = A + alpha I
       procedure :: add_identity => band_add_identity
    end type band_matrix_type
 

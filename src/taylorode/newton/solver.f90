@@ -176,7 +176,7 @@ contains
       real(dp), intent(inout) :: u(:)
       !> Evaluations, factorizations, solves and iterations are counted here
       type(counters_type), intent(inout) :: counters
-      !> Status: singular matrix, divergence or no convergence
+      !> Outcome (singular matrix, divergence or no convergence)
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m

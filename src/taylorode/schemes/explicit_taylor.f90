@@ -24,7 +24,9 @@ module taylorode_schemes_explicit_taylor
       !> Jacobians at U0
       class(matrix_type), allocatable :: jac_f0, jac_g0
    contains
+      !> One step of ex-t-1 or ex-t-2 and, when asked, the embedded difference
       procedure :: advance => explicit_taylor_advance
+      !> Work arrays and Jacobian storage for the problem's structure and n unknowns
       procedure :: prepare => explicit_taylor_prepare
       procedure :: stability => explicit_taylor_stability
    end type explicit_taylor_type

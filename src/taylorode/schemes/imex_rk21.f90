@@ -51,8 +51,11 @@ module taylorode_schemes_imex_rk21
       !> Newton's method for each stage, each with its own matrix I - h gamma J_g
       type(newton_solver_type) :: newton(2)
    contains
+      !> One step of IMEX-RK(2,1) and, when asked, the embedded first-order difference
       procedure :: advance => imex_advance
+      !> Work arrays, stage systems and Newton solvers for the problem's structure and n unknowns
       procedure :: prepare => imex_prepare
+      !> Forget the factored stage matrices kept between steps
       procedure :: restart => imex_restart
       procedure :: stability => imex_stability
    end type imex_rk21_type

@@ -33,7 +33,7 @@ module taylorode_schemes_implicit_taylor
       real(dp), allocatable :: f1(:), g1(:), rhs1(:)
       !> Jacobians at the current iterate (jac1 = J_f + J_g)
       class(matrix_type), allocatable :: jac_g1, jac1
-      !> i-t-2: whether the Newton matrix has the second-derivative term, the Jacobians
+      !> Whether the i-t-2 Newton matrix has the second-derivative term; the Jacobians
       !> at U + epsilon F(U) and that point
       logical :: second_derivatives = .true.
       class(matrix_type), allocatable :: jac_probe, jac_g_probe
@@ -50,8 +50,10 @@ module taylorode_schemes_implicit_taylor
       !> Newton's method for each member (by order), each with its own matrix
       type(newton_solver_type) :: newton(2)
    contains
+      !> One step of i-t-1 or i-t-2 and, when asked, the embedded difference
       procedure :: advance => implicit_taylor_advance
       procedure :: prepare => implicit_taylor_prepare
+      !> Forget the factored Newton matrix kept between steps
       procedure :: restart => implicit_taylor_restart
       procedure :: stability => implicit_taylor_stability
    end type implicit_taylor_type

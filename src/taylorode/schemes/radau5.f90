@@ -111,6 +111,7 @@ module taylorode_schemes_radau5
       type(linear_solver_type) :: real_solver
       !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order
       real(dp), allocatable :: small_matrix(:, :), small_inverse_diagonal(:)
+      !> Row interchanges of the small dense factorization
       integer, allocatable :: small_pivots(:)
       !> Whether the small dense path is used
       logical :: small = .false.
@@ -146,6 +147,7 @@ module taylorode_schemes_radau5
       !> Newton iterations of the last attempt
       integer :: newton_count = 0
    contains
+      !> One step of Radau IIA and, when asked, the filtered order-3 error estimate
       procedure :: advance => radau_advance
       procedure :: prepare => radau_prepare
       procedure :: restart => radau_restart

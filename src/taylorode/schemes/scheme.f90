@@ -105,7 +105,7 @@ module taylorode_schemes_scheme
          real(dp), intent(out) :: u1(:)
          !> Newton tolerances, iteration limit and reuse policy (implicit schemes)
          type(newton_settings_type), intent(in) :: newton
-         !> Status: Newton failures of the step
+         !> Outcome (Newton failures of the step)
          type(status_type), intent(inout) :: stat
          !> Difference of the embedded pair, computed only when present
          real(dp), intent(out), optional :: delta(:)

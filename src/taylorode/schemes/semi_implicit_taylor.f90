@@ -56,8 +56,10 @@ module taylorode_schemes_semi_implicit_taylor
       !> Newton's method for each member, each with its own matrix
       type(newton_solver_type) :: newton(3)
    contains
+      !> One step of si-t-1, si-t-2 or si-t-2-paper and, when asked, the embedded difference
       procedure :: advance => semi_implicit_advance
       procedure :: prepare => semi_implicit_prepare
+      !> Forget the factored Newton matrix kept between steps
       procedure :: restart => semi_implicit_restart
       procedure :: stability => semi_implicit_stability
    end type semi_implicit_taylor_type

@@ -19,9 +19,13 @@ module taylorode_testset_brusselator
       !> Diffusion coefficient
       real(dp) :: alpha = 1.0_dp/50.0_dp
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => brusselator_f
+      !> Stiff part g
       procedure :: g => brusselator_g
+      !> df/dU, analytic and dense: the schemes call it only for N = 1, where the band covers the whole matrix
       procedure :: jac_f => brusselator_jac_f
+      !> dg/dU, analytic and dense (see jac_f)
       procedure :: jac_g => brusselator_jac_g
       procedure :: jacobian_structure => brusselator_structure
       procedure :: jac_f_band => brusselator_jac_f_band

@@ -11,11 +11,16 @@ module taylorode_testset_e5
    !> f = the slow decay A y1 (A = 7.89e-10), g = the fast reactions. Components fall
    !> to 1e-22 (and y1 to 1e-290): use atol around 1e-24 and judge y2, y3 relatively.
    type, extends(test_problem_type) :: e5_type
+      !> Rate constants A, B, C and the factor M of the published problem
       real(dp) :: a = 7.89e-10_dp, b = 1.1e7_dp, c = 1.13e3_dp, m = 1.0e6_dp
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => e5_f
+      !> Stiff part g
       procedure :: g => e5_g
+      !> df/dU, analytic
       procedure :: jac_f => e5_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => e5_jac_g
    end type e5_type
 

@@ -22,9 +22,13 @@ module taylorode_testset_hires
       !> hires_split_exchange_stiff or hires_split_reaction_stiff
       integer :: split = hires_split_exchange_stiff
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => hires_f
+      !> Stiff part g
       procedure :: g => hires_g
+      !> df/dU, analytic
       procedure :: jac_f => hires_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => hires_jac_g
    end type hires_type
 

@@ -19,9 +19,13 @@ module taylorode_testset_linear_test
       !> Eigenvalue of the stiff part g
       complex(dp) :: nu = (0.0_dp, 0.0_dp)
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => linear_f
+      !> Stiff part g
       procedure :: g => linear_g
+      !> df/dU, analytic
       procedure :: jac_f => linear_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => linear_jac_g
    end type linear_test_type
 

@@ -17,14 +17,18 @@ module taylorode_testset_orego
    !> by `split`: by default g = the fast first two equations (scaled by s and 1/s),
    !> f = the slow third.
    type, extends(test_problem_type) :: orego_type
-      !> Rate constants
+      !> Parameters s, w and q of the published problem
       real(dp) :: s = 77.27_dp, w = 0.161_dp, q = 8.375e-6_dp
       !> orego_split_fast_stiff or orego_split_bilinear_stiff
       integer :: split = orego_split_fast_stiff
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => orego_f
+      !> Stiff part g
       procedure :: g => orego_g
+      !> df/dU, analytic
       procedure :: jac_f => orego_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => orego_jac_g
    end type orego_type
 

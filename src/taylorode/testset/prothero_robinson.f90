@@ -1,4 +1,4 @@
-!> Prothero-Robinson: y' = L (y - sin t) + cos t, exact solution sin t (Math. Comp. 28 (1974) 145-162).
+!> The Prothero-Robinson problem y' = L (y - sin t) + cos t, exact solution sin t (Math. Comp. 28 (1974) 145-162).
 module taylorode_testset_prothero_robinson
    use taylorode_base_kinds, only: dp
    use taylorode_testset_test_problem, only: test_problem_type
@@ -7,15 +7,19 @@ module taylorode_testset_prothero_robinson
 
    public :: prothero_robinson_type, new_prothero_robinson
 
-   !> Prothero-Robinson: y' = L (y - sin t) + cos t, y(0) = 0, exact solution sin t
+   !> The Prothero-Robinson problem y' = L (y - sin t) + cos t, y(0) = 0, exact solution sin t
    !> (Prothero & Robinson 1974). f = cos t, g = L (y - sin t), L < 0 large.
    type, extends(test_problem_type) :: prothero_robinson_type
       !> Stiffness, L < 0
       real(dp) :: l = -1.0e6_dp
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => pr_f
+      !> Stiff part g
       procedure :: g => pr_g
+      !> df/dU, analytic
       procedure :: jac_f => pr_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => pr_jac_g
    end type prothero_robinson_type
 

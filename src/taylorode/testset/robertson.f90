@@ -11,11 +11,16 @@ module taylorode_testset_robertson
    !> f = the slow reaction (k1 = 0.04), g = the fast ones (k2 = 3e7, k3 = 1e4);
    !> each part conserves y1 + y2 + y3. y2 stays below 4e-5: use atol <= 1e-10.
    type, extends(test_problem_type) :: robertson_type
+      !> Rate constants of the three reactions
       real(dp) :: k1 = 0.04_dp, k2 = 3.0e7_dp, k3 = 1.0e4_dp
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => robertson_f
+      !> Stiff part g
       procedure :: g => robertson_g
+      !> df/dU, analytic
       procedure :: jac_f => robertson_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => robertson_jac_g
    end type robertson_type
 

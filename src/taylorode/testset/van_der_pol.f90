@@ -34,9 +34,13 @@ module taylorode_testset_van_der_pol
       !> vdp_split_paper or vdp_split_stiff
       integer :: splitting = vdp_split_paper
    contains
+      !> Non-stiff part f (the problem's description gives the split)
       procedure :: f => vdp_f
+      !> Stiff part g
       procedure :: g => vdp_g
+      !> df/dU, analytic
       procedure :: jac_f => vdp_jac_f
+      !> dg/dU, analytic
       procedure :: jac_g => vdp_jac_g
    end type van_der_pol_type
 
