@@ -326,7 +326,7 @@ contains
       type is (band_matrix_type)
          do j = 1, n
             do i = max(1, j - 1), min(n, j + 2)
-               band_jac%ab(band_jac%kl + band_jac%ku + 1 + i - j, j) = cos(real(5*i - 2*j, dp)) + &
+               band_jac%ab(band_jac%diagonal + i - j, j) = cos(real(5*i - 2*j, dp)) + &
                   merge(3.0_dp, 0.0_dp, i == j)
             end do
          end do
@@ -368,7 +368,7 @@ contains
          type is (band_matrix_type)
             do j = 1, n
                do i = max(1, j - jac%ku), min(n, j + jac%kl)
-                  m(i, j) = -jac%ab(jac%kl + jac%ku + 1 + i - j, j)
+                  m(i, j) = -jac%ab(jac%diagonal + i - j, j)
                end do
             end do
          end select

@@ -3,9 +3,9 @@
 !> the controller's next step size.
 !>
 !> Error estimates: the embedded pair's difference, or step doubling (two steps of
-!> h/2 advance the solution, one step of h taken by a second copy of the scheme,
-!> which keeps its own factored Newton matrices, gives the Richardson estimate, and
-!> with local extrapolation the Richardson-extrapolated value advances).
+!> h/2 advance the solution, one step of h beside them gives the Richardson
+!> estimate, and with local extrapolation the Richardson-extrapolated value
+!> advances; the scheme's Newton solvers keep a factorization for each of h/2 and h).
 !> Newton's method starts from the line through the last accepted step's two
 !> states, extended to the end of the new step (or of each half step).
 !>
@@ -17,7 +17,6 @@ module taylorode_integrate_stepper
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite, &
       status_evaluation_failed
-   use taylorode_base_counters, only: counters_type, operator(+)
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type
@@ -73,8 +72,6 @@ module taylorode_integrate_stepper
       integer :: estimate = estimate_embedded
       !> Step doubling: 1 / (2^p - 1), the Richardson factor of the difference
       real(dp) :: richardson = 1.0_dp
-      !> Step doubling: the copy of the scheme that takes the single step of size h
-      class(scheme_type), allocatable :: whole_step
       !> Step doubling: the state after the first half step, and after the whole step
       real(dp), allocatable :: u_half(:), u_whole(:)
       !> Start of the last accepted step and its end (the state the next step starts
@@ -137,12 +134,9 @@ contains
          self%estimate = merge(estimate_embedded, estimate_doubling, &
             scheme%estimates_own_error .or. options%advance /= advance_scheme)
       end if
-      if (allocated(self%whole_step)) deallocate (self%whole_step)
+      self%newton%kept_factorizations = merge(2, 1, self%estimate == estimate_doubling)
+      self%newton_whole%kept_factorizations = self%newton%kept_factorizations
       if (self%estimate == estimate_doubling) then
-         ! a copy prepared like the scheme: it keeps its own Newton matrices for h
-         allocate (self%whole_step, source=scheme)
-         call self%whole_step%restart()
-         self%whole_step%counters = counters_type()
          self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
          self%whole_newton_fraction = 0.1_dp/self%richardson
       end if
@@ -343,19 +337,21 @@ contains
       subroutine take_doubled_step()
          real(dp) :: half
          half = 0.5_dp*h
+         ! the single step first: the first half starts from the same state (a scheme
+         ! that keeps its values at the start of a step computes them once). The single
+         ! step and the halves each start from their own extrapolation, not from one
+         ! another's results: when a Taylor scheme's polynomial equation has a spurious
+         ! root, they then rarely agree on it, and err rejects the step (seeding the
+         ! halves with the single step's result saves a Newton iteration a solve, but
+         ! let spurious roots through on Van der Pol)
+         if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
+         call run_scheme(scheme, self%newton_whole, t, h, u, self%u_whole)
+         if (outcome /= attempt_accepted) return
          if (self%extrapolate) call self%extrapolate_to(half, u, self%guess)
          call run_scheme(scheme, self%newton, t, half, u, self%u_half)
          if (outcome /= attempt_accepted) return
          if (self%extrapolate) self%guess = 2.0_dp*self%u_half - u
          call run_scheme(scheme, self%newton, t + half, half, self%u_half, self%u_new)
-         if (outcome /= attempt_accepted) return
-         ! the single step starts on its own (not from the halves' result): when a
-         ! Taylor scheme's polynomial equation has a spurious root, the two halves and
-         ! the single step then rarely agree on it, and err rejects the step
-         if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
-         call run_scheme(self%whole_step, self%newton_whole, t, h, u, self%u_whole)
-         scheme%counters = scheme%counters + self%whole_step%counters
-         self%whole_step%counters = counters_type()
          if (outcome /= attempt_accepted) return
          self%delta = self%richardson*(self%u_new - self%u_whole)
          if (options%local_extrapolation) self%u_new = self%u_new + self%delta

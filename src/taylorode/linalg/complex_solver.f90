@@ -126,7 +126,7 @@ contains
                   self%a(i, j) = (0.0_dp, 0.0_dp)
                end do
                do i = max(1, j - jac%ku), min(self%n, j + jac%kl)
-                  self%a(i, j) = cmplx(-jac%ab(jac%kl + jac%ku + 1 + i - j, j), 0.0_dp, dp)
+                  self%a(i, j) = cmplx(-jac%ab(jac%diagonal + i - j, j), 0.0_dp, dp)
                end do
                self%a(j, j) = self%a(j, j) + shift
             end do
@@ -136,7 +136,7 @@ contains
                return
             end if
             diagonal = self%kl + self%ku + 1
-            shift_j = jac%kl + jac%ku + 1
+            shift_j = jac%diagonal
             self%a = (0.0_dp, 0.0_dp)
             do j = 1, self%n
                do i = max(1, j - jac%ku), min(self%n, j + jac%kl)

@@ -69,12 +69,18 @@ module taylorode_linalg_matrix
       procedure :: add_identity => dense_add_identity
    end type dense_matrix_type
 
-   !> LAPACK band storage: A(i, j) in ab(kl + ku + 1 + i - j, j) for
-   !> max(1, j - ku) <= i <= min(n, j + kl); the first kl rows hold the LU fill-in
+   !> Band storage: A(i, j) in ab(diagonal + i - j, j) for max(1, j - ku) <= i <=
+   !> min(n, j + kl). A matrix to be factored keeps LAPACK's layout, kl rows above the
+   !> band for the LU fill-in (diagonal = kl + ku + 1); any other keeps the band alone
+   !> (diagonal = ku + 1), a third less memory for equal bandwidths
    type, extends(matrix_type) :: band_matrix_type
       !> Lower and upper bandwidths
       integer :: kl = 0, ku = 0
-      !> Band storage, (2 kl + ku + 1) x n
+      !> Rows above the band kept for the LU fill-in (kl or 0)
+      integer :: fill = 0
+      !> Row of ab that holds the diagonal: fill + ku + 1
+      integer :: diagonal = 1
+      !> Band storage, (fill + kl + ku + 1) x n
       real(dp), allocatable :: ab(:, :)
    contains
       !> Storage and bandwidths
@@ -163,8 +169,9 @@ contains
 
    !> A zero n x n matrix with the given structure; bandwidths are clamped to n - 1,
    !> and a structure that is not valid for n (negative bandwidths, unknown storage)
-   !> leaves `matrix` unallocated with status_invalid_argument.
-   subroutine new_matrix(matrix, n, structure, stat)
+   !> leaves `matrix` unallocated with status_invalid_argument. A band matrix keeps
+   !> room for LU factors only when `factored` says it will be factored.
+   subroutine new_matrix(matrix, n, structure, stat, factored)
       !> The new matrix
       class(matrix_type), allocatable, intent(out) :: matrix
       !> Order, >= 1
@@ -173,6 +180,9 @@ contains
       type(matrix_structure_type), intent(in) :: structure
       !> status_invalid_argument for an impossible structure
       type(status_type), intent(inout) :: stat
+      !> Whether the matrix will be factored in place (band: LAPACK's layout with room
+      !> for the fill-in; default: no)
+      logical, intent(in), optional :: factored
       type(dense_matrix_type), allocatable :: dense
       type(band_matrix_type), allocatable :: band
 
@@ -195,7 +205,12 @@ contains
          band%n = n
          band%kl = min(structure%lower, n - 1)
          band%ku = min(structure%upper, n - 1)
-         allocate (band%ab(2*band%kl + band%ku + 1, n), source=0.0_dp)
+         band%fill = 0
+         if (present(factored)) then
+            if (factored) band%fill = band%kl
+         end if
+         band%diagonal = band%fill + band%ku + 1
+         allocate (band%ab(band%fill + band%kl + band%ku + 1, n), source=0.0_dp)
          call move_alloc(band, matrix)
       case default
          call set_status(stat, status_invalid_argument, "matrix: unknown storage")
@@ -269,7 +284,7 @@ contains
       type is (band_matrix_type)
          do j = 1, self%n
             do i = max(1, j - b%ku), min(self%n, j + b%kl)
-               self%a(i, j) = self%a(i, j) + alpha*b%ab(b%kl + b%ku + 1 + i - j, j)
+               self%a(i, j) = self%a(i, j) + alpha*b%ab(b%diagonal + i - j, j)
             end do
          end do
       class default
@@ -333,7 +348,7 @@ contains
       ! diagonal by diagonal (long loops instead of columns of kl + ku + 1 entries),
       ! each y(i) still summed over j in increasing order
       do d = self%kl, -self%ku, -1
-         row = self%kl + self%ku + 1 + d
+         row = self%diagonal + d
          do j = max(1, 1 - d), min(self%n, self%n - d)
             y(j + d) = y(j + d) + (alpha*x(j))*self%ab(row, j)
          end do
@@ -361,8 +376,8 @@ contains
             call mismatch(stat, "a sum")
             return
          end if
-         shift = self%kl + self%ku + 1
-         shift_b = b%kl + b%ku + 1
+         shift = self%diagonal
+         shift_b = b%diagonal
          do j = 1, self%n
             do i = max(1, j - b%ku), min(self%n, j + b%kl)
                self%ab(shift + i - j, j) = self%ab(shift + i - j, j) + alpha*b%ab(shift_b + i - j, j)
@@ -394,9 +409,9 @@ contains
                call mismatch(stat, "a product")
                return
             end if
-            shift = self%kl + self%ku + 1
-            shift_b = b%kl + b%ku + 1
-            shift_c = c%kl + c%ku + 1
+            shift = self%diagonal
+            shift_b = b%diagonal
+            shift_c = c%diagonal
             do j = 1, self%n
                do k = max(1, j - c%ku), min(self%n, j + c%kl)
                   ckj = alpha*c%ab(shift_c + k - j, j)
@@ -418,7 +433,7 @@ contains
       real(dp), intent(in) :: alpha
       integer :: j
       do j = 1, self%n
-         self%ab(self%kl + self%ku + 1, j) = self%ab(self%kl + self%ku + 1, j) + alpha
+         self%ab(self%diagonal, j) = self%ab(self%diagonal, j) + alpha
       end do
    end subroutine band_add_identity
 

@@ -51,7 +51,7 @@ contains
       type(matrix_structure_type), intent(in) :: structure
       !> status_invalid_argument for an impossible structure
       type(status_type), intent(inout) :: stat
-      call new_matrix(solver%matrix, n, structure, stat)
+      call new_matrix(solver%matrix, n, structure, stat, factored=.true.)
       if (stat%code /= status_ok) return
       allocate (solver%pivots(n), solver%inverse_diagonal(n))
    end subroutine new_linear_solver
@@ -72,7 +72,10 @@ contains
             call lu_factor(a%a, self%pivots, info)
          end if
       type is (band_matrix_type)
-         if (a%kl <= narrow_band_max_width) then
+         if (a%fill /= a%kl) then
+            ! no room for the fill-in (a matrix not made to be factored)
+            info = -1
+         else if (a%kl <= narrow_band_max_width) then
             call narrow_band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info, self%inverse_diagonal)
          else
             call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)

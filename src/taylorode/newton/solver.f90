@@ -3,7 +3,7 @@
 !> `newton_solver_type` per distinct Newton matrix. Everything a solve depends on
 !> (the step size, the tolerances, the iteration limit) comes in as arguments.
 module taylorode_newton_solver
-   use taylorode_base_kinds, only: dp
+   use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_code, status_ok, status_newton_diverged, &
       status_newton_not_converged, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
@@ -49,6 +49,9 @@ module taylorode_newton_solver
       !> Newton matrices with every term of the equation's derivative (i-t-2: the second
       !> derivatives of F along F); off: the paper's matrices, which omit them
       logical :: exact_matrix = .true.
+      !> Factored Newton matrices a solver keeps, for as many step sizes (1, or 2 for
+      !> step doubling, which alternates between h/2 and h)
+      integer :: kept_factorizations = 1
    end type newton_settings_type
 
    !> A nonlinear system r(u) = 0 of a scheme, with the data of the current step
@@ -60,20 +63,34 @@ module taylorode_newton_solver
       procedure(newton_matrix_interface), deferred :: newton_matrix
    end type nonlinear_system_type
 
-   !> Newton's method with one Newton matrix, its factors and what they were built for
-   type :: newton_solver_type
+   !> A factored Newton matrix and what it was built for
+   type :: kept_factorization_type
       !> The Newton matrix and its factors
       type(linear_solver_type) :: linear
       !> Step size the factored matrix was built with
       real(dp) :: h_built = 0.0_dp
       !> Contraction of the last solve with these factors
       real(dp) :: contraction = 1.0_dp
+      !> theta/(1 - theta) of the last contraction measured with these factors: the
+      !> error left after an iteration in units of its increment
+      real(dp) :: error_factor = 1.0_dp
+      !> When it last served a solve (a count of solves), for replacing the oldest
+      integer(i8) :: last_used = 0
+   end type kept_factorization_type
+
+   !> Newton's method with one Newton matrix (its factors kept for up to two step
+   !> sizes) and what each was built for
+   type :: newton_solver_type
+      !> Factored Newton matrices; the second is allocated when settings ask for it
+      type(kept_factorization_type) :: kept(2)
+      !> Unknowns and matrix structure, for a second factorization allocated later
+      integer :: m = 0
+      type(matrix_structure_type) :: structure
+      !> Solves so far
+      integer(i8) :: solves = 0
       !> Contraction factor of the last two increments of the last solve (0 when it
       !> converged in one iteration)
       real(dp) :: last_contraction = 0.0_dp
-      !> theta/(1 - theta) of the last contraction measured: the error left after an
-      !> iteration in units of its increment
-      real(dp) :: error_factor = 1.0_dp
       !> Residual, then the Newton increment
       real(dp), allocatable :: increment(:)
       !> 1 / tolerance of the current solve (the increments are measured by products)
@@ -134,19 +151,23 @@ contains
       type(matrix_structure_type), intent(in) :: structure
       !> status_invalid_argument for an impossible structure
       type(status_type), intent(inout) :: stat
-      call new_linear_solver(self%linear, m, structure, stat)
+      self%m = m
+      self%structure = structure
+      call new_linear_solver(self%kept(1)%linear, m, structure, stat)
+      ! a second factorization is allocated again when a solve asks for it
+      self%kept(2) = kept_factorization_type()
       if (allocated(self%increment)) deallocate (self%increment, self%inverse_tolerance)
       allocate (self%increment(m), self%inverse_tolerance(m))
-      self%contraction = 1.0_dp
-      self%error_factor = 1.0_dp
+      call self%forget()
    end subroutine init
 
-   !> Forget the factored matrix.
+   !> Forget the factored matrices.
    elemental subroutine forget(self)
       !> The solver
       class(newton_solver_type), intent(inout) :: self
-      self%linear%factored = .false.
-      self%error_factor = 1.0_dp
+      self%kept%linear%factored = .false.
+      self%kept%error_factor = 1.0_dp
+      self%kept%contraction = 1.0_dp
    end subroutine forget
 
    !> Newton's method for system%residual(u) = 0 from the guess in u. The matrix is
@@ -179,7 +200,7 @@ contains
       !> Outcome (singular matrix, divergence or no convergence)
       type(status_type), intent(inout) :: stat
 
-      integer :: iteration, least_iterations, i, k, n, m
+      integer :: iteration, least_iterations, i, k, n, m, slot
       logical :: rebuild, rebuilt, known
       real(dp) :: size_now, size_before, contraction, error_factor
 
@@ -192,16 +213,17 @@ contains
          if (k > n) k = 1
          self%inverse_tolerance(i) = 1.0_dp/settings%tolerance(k)
       end do
-      rebuild = .not. (settings%reuse_matrix .and. self%linear%factored .and. &
-         abs(h - self%h_built) <= reuse_step_change*self%h_built .and. &
-         self%contraction <= reuse_contraction)
+      call choose_factorization(slot, rebuild, stat)
+      if (stat%code /= status_ok) return
+      self%solves = self%solves + 1
+      self%kept(slot)%last_used = self%solves
       ! with a kept matrix one small increment says little about the error left:
       ! a second iteration measures the contraction
       least_iterations = merge(1, 2, rebuild .or. settings%estimate_error)
       ! the first iteration's error estimate uses the last contraction measured,
       ! raised towards 1 (RADAU5's max(FACCON, uround)**0.8)
       error_factor = 1.0_dp
-      if (settings%estimate_error) error_factor = max(self%error_factor, epsilon(1.0_dp))**0.8_dp
+      if (settings%estimate_error) error_factor = max(self%kept(slot)%error_factor, epsilon(1.0_dp))**0.8_dp
       size_before = huge(1.0_dp)
       do iteration = 1, settings%max_iterations
          call system%residual(problem, u, self%increment, counters)
@@ -221,16 +243,16 @@ contains
          end do
          rebuilt = rebuild
          if (rebuild) then
-            call self%linear%matrix%set_zero()
-            call system%newton_matrix(problem, u, self%linear%matrix, counters, stat)
+            call self%kept(slot)%linear%matrix%set_zero()
+            call system%newton_matrix(problem, u, self%kept(slot)%linear%matrix, counters, stat)
             if (stat%code /= status_ok) return
-            call self%linear%factor(stat)
+            call self%kept(slot)%linear%factor(stat)
             counters%lu_factorizations = counters%lu_factorizations + 1
-            self%h_built = h
+            self%kept(slot)%h_built = h
             if (stat%code /= status_ok) return
             rebuild = .false.
          end if
-         call self%linear%solve(self%increment, stat)
+         call self%kept(slot)%linear%solve(self%increment, stat)
          counters%linear_solves = counters%linear_solves + 1
          if (stat%code /= status_ok) return
          ! the update and the size of the increment in the tolerances
@@ -238,7 +260,7 @@ contains
          do i = 1, m
             u(i) = u(i) + self%increment(i)
             if (.not. ieee_is_finite(u(i))) then
-               self%linear%factored = .false.
+               self%kept(slot)%linear%factored = .false.
                call set_code(stat, status_newton_diverged)
                return
             end if
@@ -258,12 +280,12 @@ contains
             if (iteration > 1 .and. known .and. contraction < 1.0_dp) error_factor = contraction/(1.0_dp - contraction)
             if (error_factor*size_now <= 1.0_dp) then
                call converged()
-               self%error_factor = error_factor
+               self%kept(slot)%error_factor = error_factor
                return
             end if
          end if
          if (known .and. contraction >= divergence_contraction .and. rebuilt) then
-            self%linear%factored = .false.
+            self%kept(slot)%linear%factored = .false.
             call set_code(stat, status_newton_diverged)
             return
          end if
@@ -276,10 +298,48 @@ contains
          end if
          size_before = size_now
       end do
-      self%linear%factored = .false.
+      self%kept(slot)%linear%factored = .false.
       call set_code(stat, status_newton_not_converged)
 
    contains
+
+      !> The kept factorization to use (a slot whose step size is within 20 % of h and
+      !> whose last solve contracted by 0.1 or better), or the one to rebuild: the
+      !> other slot while a second one is allowed, else the one used longest ago.
+      subroutine choose_factorization(slot, rebuild, stat)
+         integer, intent(out) :: slot
+         logical, intent(out) :: rebuild
+         type(status_type), intent(inout) :: stat
+         integer :: j, slots
+         real(dp) :: best
+         slots = max(1, min(settings%kept_factorizations, size(self%kept)))
+         slot = 0
+         best = huge(1.0_dp)
+         do j = 1, slots
+            associate (kept => self%kept(j))
+               if (.not. allocated(kept%linear%matrix)) cycle
+               if (.not. (settings%reuse_matrix .and. kept%linear%factored .and. &
+                  abs(h - kept%h_built) <= reuse_step_change*kept%h_built .and. &
+                  kept%contraction <= reuse_contraction)) cycle
+               if (abs(h - kept%h_built) < best) then
+                  best = abs(h - kept%h_built)
+                  slot = j
+               end if
+            end associate
+         end do
+         rebuild = slot == 0
+         if (.not. rebuild) return
+         slot = 1
+         do j = 2, slots
+            if (.not. allocated(self%kept(j)%linear%matrix)) then
+               ! the second factorization is allocated when it is first asked for
+               call new_linear_solver(self%kept(j)%linear, self%m, self%structure, stat)
+               slot = j
+               return
+            end if
+            if (self%kept(j)%last_used < self%kept(slot)%last_used) slot = j
+         end do
+      end subroutine choose_factorization
 
       !> Keep the contraction of the last two increments (0 after one iteration, huge
       !> when it is unknown) for the decision to reuse the factors.
@@ -289,7 +349,7 @@ contains
             self%last_contraction = huge(1.0_dp)
             if (known) self%last_contraction = size_now/size_before
          end if
-         self%contraction = self%last_contraction
+         self%kept(slot)%contraction = self%last_contraction
       end subroutine converged
 
    end subroutine solve

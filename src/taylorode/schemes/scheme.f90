@@ -375,7 +375,7 @@ contains
       type is (dense_matrix_type)
          call problem%jac_f(t, u, jac%a)
       type is (band_matrix_type)
-         call problem%jac_f_band(t, u, jac%ab(jac%kl + 1:, :))
+         call problem%jac_f_band(t, u, jac%ab(jac%fill + 1:, :))
       end select
       counters%jac_f_evaluations = counters%jac_f_evaluations + 1
    end subroutine evaluate_jac_f
@@ -396,7 +396,7 @@ contains
       type is (dense_matrix_type)
          call problem%jac_g(t, u, jac%a)
       type is (band_matrix_type)
-         call problem%jac_g_band(t, u, jac%ab(jac%kl + 1:, :))
+         call problem%jac_g_band(t, u, jac%ab(jac%fill + 1:, :))
       end select
       counters%jac_g_evaluations = counters%jac_g_evaluations + 1
    end subroutine evaluate_jac_g

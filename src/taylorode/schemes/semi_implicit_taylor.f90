@@ -23,6 +23,9 @@ module taylorode_schemes_semi_implicit_taylor
 
    !> Member identifiers (also the indices of their Newton solvers)
    integer, parameter :: si_t_1 = 1, si_t_2 = 2, si_t_2_paper = 3
+   !> How much of the values at U0 is known: nothing, f, also J_f and J_g, also g and F
+   integer, parameter :: start_values_none = 0, start_values_f = 1, start_values_jacobians = 2, &
+      start_values_all = 3
 
    !> The equation of one member: r(U) = U - known - h g(U) [+ the member's h^2 term]
    type, extends(nonlinear_system_type) :: semi_implicit_system_type
@@ -51,6 +54,13 @@ module taylorode_schemes_semi_implicit_taylor
       integer :: partner = si_t_1
       !> Values at U0: f, g, F = f + g
       real(dp), allocatable :: f0(:), g0(:), rhs0(:)
+      !> The state and time the values at U0 belong to, and how many of them are
+      !> known (start_values_none, _f, _jacobians, _all)
+      real(dp), allocatable :: u_start(:)
+      real(dp) :: t_start = 0.0_dp
+      integer :: start = 0
+      !> Whether each member's Newton solver and matrices exist
+      logical :: ready(3) = .false.
       !> The equation being solved
       type(semi_implicit_system_type) :: system
       !> Newton's method for each member, each with its own matrix
@@ -121,27 +131,62 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
+      integer :: k
       if (.not. self%resize(problem, n, stat)) return
-      call self%newton(si_t_1)%init(n, self%structure, stat)
-      call self%newton(si_t_2)%init(n, product_structure(self%structure, self%structure), stat)
-      call self%newton(si_t_2_paper)%init(n, product_structure(self%structure, self%structure), stat)
-      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0)
-      allocate (self%f0(n), self%g0(n), self%rhs0(n))
+      ! the Newton solvers and matrices of a member are made when it is first used
+      do k = 1, size(self%newton)
+         self%newton(k) = newton_solver_type()
+      end do
+      self%ready = .false.
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%u_start)
+      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%u_start(n))
+      self%start = start_values_none
       associate (system => self%system)
          if (allocated(system%known)) deallocate (system%known, system%f1, system%g1, system%work)
          allocate (system%known(n, 3), system%f1(n), system%g1(n), system%work(n))
-         call new_matrix(system%jac_f0, n, self%structure, stat)
-         call new_matrix(system%jac_g0, n, self%structure, stat)
-         call new_matrix(system%jac0, n, self%structure, stat)
-         call new_matrix(system%jac_f1, n, self%structure, stat)
-         call new_matrix(system%jac_g1, n, self%structure, stat)
+         if (allocated(system%jac_f0)) deallocate (system%jac_f0)
+         if (allocated(system%jac_g0)) deallocate (system%jac_g0)
+         if (allocated(system%jac0)) deallocate (system%jac0)
+         if (allocated(system%jac_f1)) deallocate (system%jac_f1)
+         if (allocated(system%jac_g1)) deallocate (system%jac_g1)
       end associate
-      if (stat%code /= status_ok) self%n = 0
    end subroutine semi_implicit_prepare
+
+   !> The Newton solver and the matrices of `member`, made on its first use: si-t-1
+   !> needs J_g at the iterate; si-t-2 also J_f, J_g at U0 and J_f at the iterate;
+   !> si-t-2-paper J0 = J_f0 + J_g0. The second-order members' Newton matrices hold
+   !> products of Jacobians and get the bandwidths of a product.
+   subroutine make_member(self, member, stat)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      integer, intent(in) :: member
+      type(status_type), intent(inout) :: stat
+      if (self%ready(member)) return
+      if (member == si_t_1) then
+         call self%newton(member)%init(self%n, self%structure, stat)
+      else
+         call self%newton(member)%init(self%n, product_structure(self%structure, self%structure), stat)
+      end if
+      associate (system => self%system)
+         call make_matrix(system%jac_g1)
+         if (member /= si_t_1) then
+            call make_matrix(system%jac_f0)
+            call make_matrix(system%jac_g0)
+         end if
+         if (member == si_t_2) call make_matrix(system%jac_f1)
+         if (member == si_t_2_paper) call make_matrix(system%jac0)
+      end associate
+      self%ready(member) = stat%code == status_ok
+   contains
+      subroutine make_matrix(matrix)
+         class(matrix_type), allocatable, intent(inout) :: matrix
+         if (.not. allocated(matrix)) call new_matrix(matrix, self%n, self%structure, stat)
+      end subroutine make_matrix
+   end subroutine make_member
 
    subroutine semi_implicit_restart(self)
       class(semi_implicit_taylor_type), intent(inout) :: self
       call self%newton%forget()
+      self%start = start_values_none
    end subroutine semi_implicit_restart
 
    subroutine semi_implicit_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
@@ -160,19 +205,38 @@ contains
       needed = .false.
       needed(self%member) = .true.
       if (present(delta)) needed(self%partner) = .true.
+      call make_member(self, self%member, stat)
+      if (present(delta)) call make_member(self, self%partner, stat)
+      if (stat%code /= status_ok) return
 
       associate (system => self%system)
          system%t1 = t + h
          system%h = h
-         call evaluate_f(problem, t, u0, self%f0, self%counters)
-         if (needed(si_t_2) .or. needed(si_t_2_paper)) then
+         ! the values at U0 serve every step from it (step doubling's single and first
+         ! half step, a retry after a rejection): computed once per state
+         if (self%start /= start_values_none) then
+            if (t /= self%t_start .or. any(u0 /= self%u_start)) self%start = start_values_none
+         end if
+         if (self%start == start_values_none) then
+            call evaluate_f(problem, t, u0, self%f0, self%counters)
+            self%t_start = t
+            self%u_start = u0
+            self%start = start_values_f
+         end if
+         if ((needed(si_t_2) .or. needed(si_t_2_paper)) .and. self%start < start_values_jacobians) then
             call evaluate_jac_f(problem, t, u0, system%jac_f0, self%counters)
             call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters)
+            self%start = start_values_jacobians
          end if
-         if (needed(si_t_1)) system%known(:, si_t_1) = u0 + h*self%f0
-         if (needed(si_t_2)) then
+         if (needed(si_t_2) .and. self%start < start_values_all) then
             call evaluate_g(problem, t, u0, self%g0, self%counters)
             self%rhs0 = self%f0 + self%g0
+            self%start = start_values_all
+         end if
+         ! values the problem rejected are not kept
+         if (problem%evaluation_rejected()) self%start = start_values_none
+         if (needed(si_t_1)) system%known(:, si_t_1) = u0 + h*self%f0
+         if (needed(si_t_2)) then
             system%known(:, si_t_2) = u0 + h*self%f0
             call system%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, system%known(:, si_t_2))
          end if
