@@ -27,20 +27,26 @@ module taylorode_schemes_semi_implicit_taylor
    integer, parameter :: start_values_none = 0, start_values_f = 1, start_values_jacobians = 2, &
       start_values_all = 3
 
+   !> A vector of one member
+   type :: member_vector_type
+      !> The values
+      real(dp), allocatable :: values(:)
+   end type member_vector_type
+
    !> The equation of one member: r(U) = U - known - h g(U) [+ the member's h^2 term]
    type, extends(nonlinear_system_type) :: semi_implicit_system_type
       !> Member being solved
       integer :: member = si_t_1
       !> End of the step and step size
       real(dp) :: t1 = 0.0_dp, h = 0.0_dp
-      !> Known part of each member's update, one column per member
-      real(dp), allocatable :: known(:, :)
+      !> Known part of each member's update (allocated for the members in use)
+      type(member_vector_type) :: known(3)
       !> Values at the current Newton iterate
       real(dp), allocatable :: f1(:), g1(:), work(:)
       !> Jacobians at U0 (jac0 = J_f0 + J_g0, used by si-t-2-paper)
       class(matrix_type), allocatable :: jac_f0, jac_g0, jac0
-      !> Jacobians at the current Newton iterate
-      class(matrix_type), allocatable :: jac_f1, jac_g1
+      !> J_g at the current Newton iterate (si-t-1, si-t-2-paper)
+      class(matrix_type), allocatable :: jac_g1
    contains
       procedure :: residual => semi_implicit_residual
       procedure :: newton_matrix => semi_implicit_matrix
@@ -108,7 +114,7 @@ contains
          self%partner = si_t_1
          self%embedded_order = 1
          self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 [J_f0 F0 - J_g0 F(U1)]"
-         self%newton_matrices = "I - h J_g(U1) + h^2/2 J_g0 J(U1)"
+         self%newton_matrices = "I - h J_g0 + h^2/2 J_g0 J0 (Jacobians at U0)"
       end select
    end function new_semi_implicit_taylor
 
@@ -142,20 +148,23 @@ contains
       allocate (self%f0(n), self%g0(n), self%rhs0(n), self%u_start(n))
       self%start = start_values_none
       associate (system => self%system)
-         if (allocated(system%known)) deallocate (system%known, system%f1, system%g1, system%work)
-         allocate (system%known(n, 3), system%f1(n), system%g1(n), system%work(n))
+         if (allocated(system%f1)) deallocate (system%f1, system%g1, system%work)
+         allocate (system%f1(n), system%g1(n), system%work(n))
+         do k = 1, size(system%known)
+            if (allocated(system%known(k)%values)) deallocate (system%known(k)%values)
+         end do
          if (allocated(system%jac_f0)) deallocate (system%jac_f0)
          if (allocated(system%jac_g0)) deallocate (system%jac_g0)
          if (allocated(system%jac0)) deallocate (system%jac0)
-         if (allocated(system%jac_f1)) deallocate (system%jac_f1)
          if (allocated(system%jac_g1)) deallocate (system%jac_g1)
       end associate
    end subroutine semi_implicit_prepare
 
    !> The Newton solver and the matrices of `member`, made on its first use: si-t-1
-   !> needs J_g at the iterate; si-t-2 also J_f, J_g at U0 and J_f at the iterate;
-   !> si-t-2-paper J0 = J_f0 + J_g0. The second-order members' Newton matrices hold
-   !> products of Jacobians and get the bandwidths of a product.
+   !> needs J_g at the iterate; si-t-2 J_f and J_g at U0 (its Newton matrix is made of
+   !> them); si-t-2-paper both, J_g at the iterate and J0 = J_f0 + J_g0. The
+   !> second-order members' Newton matrices hold products of Jacobians and get the
+   !> bandwidths of a product.
    subroutine make_member(self, member, stat)
       class(semi_implicit_taylor_type), intent(inout) :: self
       integer, intent(in) :: member
@@ -167,13 +176,13 @@ contains
          call self%newton(member)%init(self%n, product_structure(self%structure, self%structure), stat)
       end if
       associate (system => self%system)
-         call make_matrix(system%jac_g1)
+         if (member /= si_t_2) call make_matrix(system%jac_g1)
          if (member /= si_t_1) then
             call make_matrix(system%jac_f0)
             call make_matrix(system%jac_g0)
          end if
-         if (member == si_t_2) call make_matrix(system%jac_f1)
          if (member == si_t_2_paper) call make_matrix(system%jac0)
+         if (.not. allocated(system%known(member)%values)) allocate (system%known(member)%values(self%n))
       end associate
       self%ready(member) = stat%code == status_ok
    contains
@@ -235,16 +244,16 @@ contains
          end if
          ! values the problem rejected are not kept
          if (problem%evaluation_rejected()) self%start = start_values_none
-         if (needed(si_t_1)) system%known(:, si_t_1) = u0 + h*self%f0
+         if (needed(si_t_1)) system%known(si_t_1)%values = u0 + h*self%f0
          if (needed(si_t_2)) then
-            system%known(:, si_t_2) = u0 + h*self%f0
-            call system%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, system%known(:, si_t_2))
+            system%known(si_t_2)%values = u0 + h*self%f0
+            call system%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, system%known(si_t_2)%values)
          end if
          if (needed(si_t_2_paper)) then
             call system%jac0%set_scaled(1.0_dp, system%jac_f0, stat)
             call system%jac0%add_scaled(1.0_dp, system%jac_g0, stat)
-            system%known(:, si_t_2_paper) = u0 + h*self%f0
-            call system%jac0%multiply_add(0.5_dp*h*h, self%f0, system%known(:, si_t_2_paper))
+            system%known(si_t_2_paper)%values = u0 + h*self%f0
+            call system%jac0%multiply_add(0.5_dp*h*h, self%f0, system%known(si_t_2_paper)%values)
          end if
          if (stat%code /= status_ok) return
 
@@ -280,7 +289,7 @@ contains
 
       half_h2 = 0.5_dp*self%h*self%h
       call evaluate_g(problem, self%t1, u, self%g1, counters)
-      r = u - self%known(:, self%member) - self%h*self%g1
+      r = u - self%known(self%member)%values - self%h*self%g1
       select case (self%member)
       case (si_t_2)
          call evaluate_f(problem, self%t1, u, self%f1, counters)
@@ -302,16 +311,16 @@ contains
       real(dp) :: half_h2
 
       half_h2 = 0.5_dp*self%h*self%h
-      call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
-      call matrix%add_scaled(-self%h, self%jac_g1, stat)
-      select case (self%member)
-      case (si_t_2)
-         call evaluate_jac_f(problem, self%t1, u, self%jac_f1, counters)
-         call self%jac_f1%add_scaled(1.0_dp, self%jac_g1, stat)
-         call matrix%add_product(half_h2, self%jac_g0, self%jac_f1, stat)
-      case (si_t_2_paper)
-         call matrix%add_product(half_h2, self%jac0, self%jac_g1, stat)
-      end select
+      if (self%member == si_t_2) then
+         ! with the Jacobians at U0 it already has (simplified Newton)
+         call matrix%add_scaled(-self%h, self%jac_g0, stat)
+         call matrix%add_product(half_h2, self%jac_g0, self%jac_f0, stat)
+         call matrix%add_product(half_h2, self%jac_g0, self%jac_g0, stat)
+      else
+         call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+         call matrix%add_scaled(-self%h, self%jac_g1, stat)
+         if (self%member == si_t_2_paper) call matrix%add_product(half_h2, self%jac0, self%jac_g1, stat)
+      end if
       call matrix%add_identity(1.0_dp)
    end subroutine semi_implicit_matrix
 
