@@ -6,8 +6,9 @@ module test_features
    use taylorode, only: dp, i8, ode_problem, scheme_type, new_scheme, integrate, integrator_type, status_type, &
       integrator_options_type, integration_stats_type, paper_options, status_ok, status_invalid_argument, &
       status_size_mismatch, accepted_step_type, step_observer_type, event_functions_type, event_rising, &
-      event_falling, error_weight_type
-   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, robertson_type, new_robertson
+      event_falling, error_weight_type, integrate_fixed
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, robertson_type, new_robertson, &
+      brusselator_type, new_brusselator
    use taylorode_base_strings, only: format_real, format_integer
    implicit none
    private
@@ -65,7 +66,8 @@ contains
          new_unittest("events-bouncing-ball", test_bouncing_ball), &
          new_unittest("events-robertson-threshold", test_robertson_threshold), &
          new_unittest("tolerance-per-component", test_tolerance_per_component), &
-         new_unittest("error-weights-of-your-own", test_error_weights) &
+         new_unittest("error-weights-of-your-own", test_error_weights), &
+         new_unittest("linear-g-declared", test_linear_g) &
          ]
    end subroutine collect_features
 
@@ -371,5 +373,68 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
    end subroutine ball_jac_g
+
+   !> A problem that declares g linear (the Brusselator's diffusion) gets dg/dU
+   !> evaluated once per integration, and the linear stage equations of imex-rk21 are
+   !> solved by one Newton iteration once their matrix is factored for the step size
+   !> (50 fixed steps: 100 stage solves, 100 iterations; undeclared, a second
+   !> iteration whenever the first cannot show convergence: measured 151), with the
+   !> same result to 1e-11 relative (Newton's tolerance in fixed steps is 1e-13).
+   !> si-t-2 adaptive: one evaluation of dg/dU (undeclared: one a step), the same
+   !> result to the tolerance.
+   subroutine test_linear_g(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(brusselator_type) :: declared, undeclared
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats_declared, stats_undeclared
+      type(status_type) :: stat
+      real(dp), allocatable :: u_declared(:), u_undeclared(:)
+      integer(i8) :: iterations(2), jacobians(2)
+
+      declared = new_brusselator(20)
+      undeclared = declared
+      undeclared%linear_g = .false.
+      call check(error, declared%linear_g, "the Brusselator declares g linear")
+      if (allocated(error)) return
+
+      call new_scheme("imex-rk21", scheme, stat)
+      u_declared = declared%u0
+      call integrate_fixed(declared, scheme, 0.0_dp, 1.0_dp, 50, u_declared, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      iterations(1) = scheme%counters%newton_iterations
+      jacobians(1) = scheme%counters%jac_g_evaluations
+      call new_scheme("imex-rk21", scheme, stat)
+      u_undeclared = undeclared%u0
+      call integrate_fixed(undeclared, scheme, 0.0_dp, 1.0_dp, 50, u_undeclared, stat)
+      iterations(2) = scheme%counters%newton_iterations
+      jacobians(2) = scheme%counters%jac_g_evaluations
+      call check(error, iterations(1) == 100 .and. jacobians(1) == 1, "declared: "// &
+         format_integer(int(iterations(1)))//" Newton iterations and "//format_integer(int(jacobians(1)))// &
+         " Jacobians, expected 100 and 1")
+      if (allocated(error)) return
+      call check(error, iterations(2) > 100 .and. jacobians(2) >= 1, "undeclared: "// &
+         format_integer(int(iterations(2)))//" Newton iterations and "//format_integer(int(jacobians(2)))//" Jacobians")
+      if (allocated(error)) return
+      call check(error, maxval(abs(u_declared - u_undeclared)) <= 1.0e-11_dp*maxval(abs(u_undeclared)), &
+         "imex-rk21: declaring g linear changed the solution by "//format_real(maxval(abs(u_declared - u_undeclared))))
+      if (allocated(error)) return
+
+      call new_scheme("si-t-2", scheme, stat)
+      u_declared = declared%u0
+      call integrate(declared, scheme, 0.0_dp, 1.0_dp, u_declared, integrator_options_type(rtol=1.0e-6_dp, &
+         atol=1.0e-6_dp), stats_declared, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      u_undeclared = undeclared%u0
+      call integrate(undeclared, scheme, 0.0_dp, 1.0_dp, u_undeclared, integrator_options_type(rtol=1.0e-6_dp, &
+         atol=1.0e-6_dp), stats_undeclared, stat)
+      call check(error, stats_declared%work%jac_g_evaluations == 1 .and. stats_undeclared%work%jac_g_evaluations > 1, &
+         "si-t-2: "//format_integer(int(stats_declared%work%jac_g_evaluations))//" evaluations of dg/dU declared, "// &
+         format_integer(int(stats_undeclared%work%jac_g_evaluations))//" undeclared")
+      if (allocated(error)) return
+      call check(error, maxval(abs(u_declared - u_undeclared)) <= 1.0e-5_dp, &
+         "si-t-2: declaring g linear changed the solution by "//format_real(maxval(abs(u_declared - u_undeclared))))
+   end subroutine test_linear_g
 
 end module test_features

@@ -32,6 +32,9 @@ module taylorode_integrate_stepper
 
    public :: stepper_type, roundoff_weight
 
+   !> With g linear, an accepted step keeps h unless the controller lets it grow by more
+   !> than this factor (RADAU5's QUOT2 = 1.2)
+   real(dp), parameter :: linear_hold = 1.2_dp
    !> Newton increments are never asked to be smaller than this many roundoffs of |U|
    real(dp), parameter :: newton_roundoff_floor = 10.0_dp
    !> Error weights are never below this fraction of |U_i| (50 roundoffs): a tighter
@@ -312,6 +315,9 @@ contains
       if (options%min_shrink > 0.0_dp) factor = max(factor, options%min_shrink)
       if (err <= 1.0_dp) then
          call scheme%step_hold(hold_low, hold_high)
+         ! with g linear a step of the same size solves its linear equations with the
+         ! factors already made, in one iteration: keep h unless it may grow by 20 %
+         if (problem%linear_g .and. scheme%implicit) hold_high = max(hold_high, linear_hold)
          if (factor >= hold_low .and. factor <= hold_high) factor = 1.0_dp
       end if
       h_next = min(factor*h, options%h_max)

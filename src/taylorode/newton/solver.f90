@@ -56,6 +56,10 @@ module taylorode_newton_solver
 
    !> A nonlinear system r(u) = 0 of a scheme, with the data of the current step
    type, abstract :: nonlinear_system_type
+      !> Whether the residual is linear in u (set by the scheme for each solve): Newton
+      !> with a matrix factored for exactly this step size then solves it in one
+      !> iteration, and stops there
+      logical :: linear = .false.
    contains
       !> Residual r(u)
       procedure(residual_interface), deferred :: residual
@@ -269,6 +273,11 @@ contains
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
          known = size_before > 0.0_dp
+         ! a linear system with a matrix exact for this step is solved (up to roundoff)
+         if (system%linear .and. self%kept(slot)%h_built == h) then
+            call converged()
+            return
+         end if
          if (.not. settings%estimate_error .and. size_now <= 1.0_dp .and. iteration >= least_iterations) then
             call converged()
             return

@@ -26,6 +26,12 @@ module taylorode_problem_ode
 
    !> Abstract problem with a non-stiff part f, a stiff part g and their Jacobians
    type, abstract :: ode_problem
+      !> Declare g linear: g(t, U) = A U + b(t) with a constant matrix A. The schemes then
+      !> evaluate dg/dU once per integration, and solve an implicit equation that is
+      !> linear in U with a constant matrix (si-t-1, the stages of imex-rk21) by one
+      !> Newton iteration with a matrix factored for the step size at hand, without a
+      !> second one to confirm convergence
+      logical :: linear_g = .false.
       !> Set by reject_evaluation, cleared by the integrator before each attempt
       logical, private :: rejected = .false.
       !> Set by reject_evaluation(fatal=.true.): the integration stops at once

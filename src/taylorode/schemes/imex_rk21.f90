@@ -37,6 +37,8 @@ module taylorode_schemes_imex_rk21
       real(dp), allocatable :: known(:)
       !> Jacobian dg/dU at the current iterate
       class(matrix_type), allocatable :: jac_g
+      !> Whether jac_g holds dg/dU of a problem with linear g (kept for the integration)
+      logical :: jac_g_constant = .false.
    contains
       procedure :: residual => imex_residual
       procedure :: newton_matrix => imex_matrix
@@ -48,8 +50,9 @@ module taylorode_schemes_imex_rk21
       type(imex_stage_type) :: stage
       !> Stage values and f, g at the stages
       real(dp), allocatable :: y1(:), f_y1(:), g_y1(:), f_y2(:), g_y2(:)
-      !> Newton's method for each stage, each with its own matrix I - h gamma J_g
-      type(newton_solver_type) :: newton(2)
+      !> Newton's method for both stages: they share the matrix I - h gamma J_g (kept
+      !> from stage 1 for stage 2 while it serves)
+      type(newton_solver_type) :: newton
    contains
       !> One step of IMEX-RK(2,1) and, when asked, the embedded first-order difference
       procedure :: advance => imex_advance
@@ -72,7 +75,7 @@ contains
       self%implicit = .true.
       self%update = "Y1 = U0 + h gamma g(Y1); Y2 = U0 + h c f(Y1) + h [(1-gamma) g(Y1) + gamma g(Y2)]; "// &
          "U1 = U0 + h [(1-gamma) F(Y1) + gamma F(Y2)]"
-      self%newton_matrices = "I - h gamma J_g(Y1), I - h gamma J_g(Y2)"
+      self%newton_matrices = "I - h gamma J_g (one for both stages)"
    end function new_imex_rk21
 
    !> Y1 = 1/(1 - gamma w), Y2 = (1 + (c z + (1 - gamma) w) Y1)/(1 - gamma w),
@@ -92,8 +95,7 @@ contains
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
       if (.not. self%resize(problem, n, stat)) return
-      call self%newton(1)%init(n, self%structure, stat)
-      call self%newton(2)%init(n, self%structure, stat)
+      call self%newton%init(n, self%structure, stat)
       if (allocated(self%y1)) deallocate (self%stage%known, self%y1, self%f_y1, self%g_y1, self%f_y2, self%g_y2)
       allocate (self%stage%known(n), self%y1(n), self%f_y1(n), self%g_y1(n), self%f_y2(n), self%g_y2(n))
       call new_matrix(self%stage%jac_g, n, self%structure, stat)
@@ -103,6 +105,7 @@ contains
    subroutine imex_restart(self)
       class(imex_rk21_type), intent(inout) :: self
       call self%newton%forget()
+      self%stage%jac_g_constant = .false.
    end subroutine imex_restart
 
    subroutine imex_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
@@ -117,6 +120,7 @@ contains
       real(dp), intent(in), optional :: guess(:)
 
       self%stage%h = h
+      self%stage%linear = problem%linear_g
       self%stage%t_stage = t + implicit_nodes(1)*h
       self%stage%known = u0
       if (present(guess)) then
@@ -124,10 +128,11 @@ contains
       else
          self%y1 = u0
       end if
-      call self%newton(1)%solve(self%stage, problem, h, newton, self%y1, self%counters, stat)
+      call self%newton%solve(self%stage, problem, h, newton, self%y1, self%counters, stat)
       if (stat%code /= status_ok) return
       call evaluate_f(problem, t, self%y1, self%f_y1, self%counters)
-      call evaluate_g(problem, t + imex_gamma*h, self%y1, self%g_y1, self%counters)
+      ! g at a stage from its own equation, Y = known + h gamma g(Y): no evaluation
+      self%g_y1 = (self%y1 - self%stage%known)/(h*imex_gamma)
 
       self%stage%t_stage = t + implicit_nodes(2)*h
       self%stage%known = u0 + (h*imex_c)*self%f_y1 + (h*(1.0_dp - imex_gamma))*self%g_y1
@@ -136,10 +141,10 @@ contains
       else
          u1 = self%y1
       end if
-      call self%newton(2)%solve(self%stage, problem, h, newton, u1, self%counters, stat)
+      call self%newton%solve(self%stage, problem, h, newton, u1, self%counters, stat)
       if (stat%code /= status_ok) return
       call evaluate_f(problem, t + imex_c*h, u1, self%f_y2, self%counters)
-      call evaluate_g(problem, t + h, u1, self%g_y2, self%counters)
+      self%g_y2 = (u1 - self%stage%known)/(h*imex_gamma)
 
       ! u1 holds Y2 until here
       if (present(delta)) delta = u0 + h*(self%f_y2 + self%g_y2)
@@ -166,7 +171,10 @@ contains
       class(matrix_type), intent(inout) :: matrix
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
-      call evaluate_jac_g(problem, self%t_stage, u, self%jac_g, counters)
+      if (.not. (problem%linear_g .and. self%jac_g_constant)) then
+         call evaluate_jac_g(problem, self%t_stage, u, self%jac_g, counters)
+         self%jac_g_constant = problem%linear_g
+      end if
       call matrix%add_scaled(-self%h*imex_gamma, self%jac_g, stat)
       call matrix%add_identity(1.0_dp)
    end subroutine imex_matrix

@@ -47,6 +47,9 @@ module taylorode_schemes_semi_implicit_taylor
       class(matrix_type), allocatable :: jac_f0, jac_g0, jac0
       !> J_g at the current Newton iterate (si-t-1, si-t-2-paper)
       class(matrix_type), allocatable :: jac_g1
+      !> Whether jac_g0 and jac_g1 hold dg/dU of a problem with linear g (kept for the
+      !> integration)
+      logical :: jac_g0_constant = .false., jac_g1_constant = .false.
    contains
       procedure :: residual => semi_implicit_residual
       procedure :: newton_matrix => semi_implicit_matrix
@@ -196,6 +199,8 @@ contains
       class(semi_implicit_taylor_type), intent(inout) :: self
       call self%newton%forget()
       self%start = start_values_none
+      self%system%jac_g0_constant = .false.
+      self%system%jac_g1_constant = .false.
    end subroutine semi_implicit_restart
 
    subroutine semi_implicit_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
@@ -234,7 +239,10 @@ contains
          end if
          if ((needed(si_t_2) .or. needed(si_t_2_paper)) .and. self%start < start_values_jacobians) then
             call evaluate_jac_f(problem, t, u0, system%jac_f0, self%counters)
-            call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters)
+            if (.not. (problem%linear_g .and. system%jac_g0_constant)) then
+               call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters)
+               system%jac_g0_constant = problem%linear_g
+            end if
             self%start = start_values_jacobians
          end if
          if (needed(si_t_2) .and. self%start < start_values_all) then
@@ -258,6 +266,7 @@ contains
          if (stat%code /= status_ok) return
 
          system%member = self%member
+         system%linear = problem%linear_g .and. self%member == si_t_1
          if (present(guess)) then
             u1 = guess
          else
@@ -267,6 +276,7 @@ contains
          if (stat%code /= status_ok .or. .not. present(delta)) return
 
          system%member = self%partner
+         system%linear = problem%linear_g .and. self%partner == si_t_1
          delta = u1
          call self%newton(self%partner)%solve(system, problem, h, newton, delta, self%counters, stat)
       end associate
@@ -317,7 +327,10 @@ contains
          call matrix%add_product(half_h2, self%jac_g0, self%jac_f0, stat)
          call matrix%add_product(half_h2, self%jac_g0, self%jac_g0, stat)
       else
-         call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+         if (.not. (problem%linear_g .and. self%jac_g1_constant)) then
+            call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+            self%jac_g1_constant = problem%linear_g
+         end if
          call matrix%add_scaled(-self%h, self%jac_g1, stat)
          if (self%member == si_t_2_paper) call matrix%add_product(half_h2, self%jac0, self%jac_g1, stat)
       end if

@@ -12,7 +12,8 @@ module taylorode_testset_brusselator
    !> N interior points, alpha = 1/50, Dirichlet data u = 1, v = 3, u(x, 0) = 1 + sin(2 pi x),
    !> v(x, 0) = 3, t in [0, 10]. Unknowns interleaved (u1, v1, u2, v2, ...);
    !> f = the reaction, g = the diffusion (with the boundary data). Both Jacobians
-   !> have bandwidths 2 and 2: the Newton systems are solved in band storage.
+   !> have bandwidths 2 and 2: the Newton systems are solved in band storage. g is
+   !> declared linear.
    type, extends(test_problem_type) :: brusselator_type
       !> Interior grid points
       integer :: points = 100
@@ -43,6 +44,8 @@ contains
       integer :: i
       if (present(points)) self%points = points
       self%name = "brusselator"
+      ! the diffusion (with its boundary values) is A U + b
+      self%linear_g = .true.
       self%t_end = 10.0_dp
       allocate (self%u0(2*self%points))
       do i = 1, self%points
