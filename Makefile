@@ -8,6 +8,8 @@
 #   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
+#   make floor           i-t-2's time per step on the paper's run against a hand-coded floor
+#                        (FLOOR=path/to/it2_vdp.c, default ../shared/peers/floor/it2_vdp.c)
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
 #   make figures         every number and figure of the README regenerated with the machine's description
@@ -57,7 +59,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install docs figures
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install floor docs figures
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -105,3 +107,6 @@ docs: setup
 
 figures: setup
 	@bash tools/figures.sh
+
+floor: setup
+	@bash tools/floor.sh "$(FLOOR)"
