@@ -767,7 +767,8 @@ contains
             "); tighter tolerances are skipped after a run reaches it"//nl// &
             "  --estimate embedded|doubling  the error estimate (default: the library's, step doubling;"//nl// &
             "                radau5 its own)"//nl// &
-            "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>)"
+            "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>,"//nl// &
+            "                taylorode_<scheme>_embedded with --estimate embedded)"
       case default
          text = "taylorode "//version//": one-step Taylor schemes for stiff ODEs U' = f(U) + g(U)"//nl// &
             "usage: taylorode [COMMAND] [OPTIONS]     (no command: table)"//nl// &
@@ -1622,7 +1623,8 @@ contains
             pad(error_text(err_end), 10)//pad(choose(size(bench%t_out) > 1, error_text(err_grid), "-"), 10))
          if (rows == size(csv_rows)) csv_rows = [csv_rows, csv_rows]
          rows = rows + 1
-         csv_rows(rows)%text = "taylorode_"//scheme_name//","//bench%name//","//tol_text//","// &
+         csv_rows(rows)%text = "taylorode_"//scheme_name//choose(request%options%error_estimate == estimate_embedded, &
+            "_embedded", "")//","//bench%name//","//tol_text//","// &
             format_real(options%rtol, 6)//","//format_real(options%atol, 6)//","//status_text//","// &
             format_integer(stats%accepted_steps)//","//format_integer(stats%rejected_steps())//","// &
             format_integer(max(work%f_evaluations, work%g_evaluations))//","// &

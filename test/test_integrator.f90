@@ -295,6 +295,18 @@ contains
          call check(error, stats%rejected_steps() == stats%rejected_error + stats%rejected_newton + &
             stats%rejected_nonfinite, "rejected_steps sums the causes")
          if (allocated(error)) return
+         ! with the library's defaults (step doubling) and si-t-2, whose errors vary more
+         ! from step to step: a rejection must shrink h whatever the earlier errors were
+         ! (the PID terms once asked for growth after a rejection, 10 million times over)
+         call new_scheme("si-t-2", scheme, stat)
+         options = integrator_options_type(rtol=1.0e-7_dp, atol=1.0e-7_dp, norm=norm_rms, &
+            controller=controllers(k), max_steps=100000_i8)
+         u = van_der_pol_initial_state(vdp_ic_prepared)
+         call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+         call check(error, stat%code == status_ok .and. stats%rejected_error < stats%accepted_steps/4, &
+            "si-t-2 with PI/PID and step doubling: "//format_integer(int(stats%rejected_error))//" rejections, "// &
+            format_integer(int(stats%accepted_steps))//" steps: "//stat_message(stat))
+         if (allocated(error)) return
       end do
    end subroutine test_pi_pid
 

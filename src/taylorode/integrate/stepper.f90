@@ -306,8 +306,11 @@ contains
       if (outcome /= attempt_accepted) return
       call self%set_weights(options, u, self%u_new)
       err = self%weighted_norm(options, self%delta)
-      factor = controller_factor(self%controller, scheme%step_safety(options%kappa), self%q, err, &
-         self%err_previous, self%err_before)
+      ! a rejected step shrinks h by the I controller's factor: the PI and PID terms of
+      ! earlier (small) errors could otherwise ask for a larger step than the one
+      ! just rejected, again and again
+      factor = controller_factor(merge(self%controller, controller_i, err <= 1.0_dp), &
+         scheme%step_safety(options%kappa), self%q, err, self%err_previous, self%err_before)
       if (self%controller == controller_predictive .and. err <= 1.0_dp .and. self%h_previous > 0.0_dp) then
          factor = min(factor, predictive_factor(options%kappa, self%q, err, self%err_previous, h, self%h_previous))
       end if

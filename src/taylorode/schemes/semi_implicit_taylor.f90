@@ -117,7 +117,7 @@ contains
          self%partner = si_t_1
          self%embedded_order = 1
          self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 [J_f0 F0 - J_g0 F(U1)]"
-         self%newton_matrices = "I - h J_g0 + h^2/2 J_g0 J0 (Jacobians at U0)"
+         self%newton_matrices = "I - h J_g(U1) + h^2/2 J_g0 (J_f0 + J_g(U1))"
       end select
    end function new_semi_implicit_taylor
 
@@ -164,8 +164,9 @@ contains
    end subroutine semi_implicit_prepare
 
    !> The Newton solver and the matrices of `member`, made on its first use: si-t-1
-   !> needs J_g at the iterate; si-t-2 J_f and J_g at U0 (its Newton matrix is made of
-   !> them); si-t-2-paper both, J_g at the iterate and J0 = J_f0 + J_g0. The
+   !> needs J_g at the iterate; si-t-2 J_f and J_g at U0 (and J_g at the iterate,
+   !> made when a Newton matrix is first built, unless g is linear); si-t-2-paper
+   !> both, J_g at the iterate and J0 = J_f0 + J_g0. The
    !> second-order members' Newton matrices hold products of Jacobians and get the
    !> bandwidths of a product.
    subroutine make_member(self, member, stat)
@@ -322,10 +323,17 @@ contains
 
       half_h2 = 0.5_dp*self%h*self%h
       if (self%member == si_t_2) then
-         ! with the Jacobians at U0 it already has (simplified Newton)
-         call matrix%add_scaled(-self%h, self%jac_g0, stat)
+         ! J_f from U0, J_g at the iterate (with g linear: the J_g it already has)
+         if (problem%linear_g) then
+            call matrix%add_scaled(-self%h, self%jac_g0, stat)
+            call matrix%add_product(half_h2, self%jac_g0, self%jac_g0, stat)
+         else
+            if (.not. allocated(self%jac_g1)) call new_matrix(self%jac_g1, size(u), self%jac_g0%structure(), stat)
+            call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+            call matrix%add_scaled(-self%h, self%jac_g1, stat)
+            call matrix%add_product(half_h2, self%jac_g0, self%jac_g1, stat)
+         end if
          call matrix%add_product(half_h2, self%jac_g0, self%jac_f0, stat)
-         call matrix%add_product(half_h2, self%jac_g0, self%jac_g0, stat)
       else
          if (.not. (problem%linear_g .and. self%jac_g1_constant)) then
             call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
