@@ -8,7 +8,9 @@
 #   README.md           every block between "<!-- figures:NAME -->" and "<!-- /figures:NAME -->"
 # With FULL=1 it also runs `taylorode table --full` (a few minutes) for the block "full"
 # (the rows that stop at the step budget otherwise); without it that block keeps its
-# earlier numbers and their own date line.
+# earlier numbers and their own date line. PEERS=<the peer harness's folder> runs the
+# peer solvers (CVODE, ARKODE) in the same run and draws them beside taylorode;
+# FLOOR=<hand-coded floor, C> times i-t-2 against it (tools/floor.sh).
 # CPU times depend on the machine and on whatever else runs: use a quiet machine.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -72,13 +74,70 @@ if [ "${FULL:-0}" = 1 ]; then
   run table --full --out "$out/full" --force > "$out/full/table.txt"
 fi
 
-# Hook for the performance numbers: the `bench` command is being rewritten; once it
-# has --csv its output fills the README's block "performance".
-if run bench --help 2>/dev/null | grep -q -- '--csv'; then
-  run bench --csv "$out/bench.csv" > "$out/bench.txt"
-  { echo "$stamp"; echo; echo '```'; cat "$out/bench.txt"; echo '```'; } > "$blocks/performance.md"
-else
-  note "this taylorode has no 'bench --csv': the README's performance block is left as it is"
+# ---------------------------------------------------------------- performance
+# taylorode's bench on the peer harness's problems; with PEERS=<the peer harness's
+# folder> (its sundials_bench built, its refs/) the peers run on the same problems in
+# this same run, their references are used, report.py draws everyone's work-precision
+# curves and tools/ratios.py the CPU ratios at equal error. FLOOR=<it2_vdp.c> adds
+# the per-step comparison with the hand-coded floor.
+peers="${PEERS:-}"
+refs=()
+if [ -n "$peers" ]; then
+  [ -x "$peers/sundials_bench" ] || { note "ERROR: PEERS=$peers has no built sundials_bench"; exit 1; }
+  refs=(--refs "$peers/refs")
+  for n in 1000 10000 100000; do
+    [ -s "$peers/refs/bs$n.csv" ] || "$peers/sundials_bench" ref cvode_bdf "bs$n" 1e-13 1e-15 > "$peers/refs/bs$n.csv"
+  done
+fi
+echo "figures: bench (about ten minutes)" >&2
+small="vdp1e3_wp,vdp1e3_up,rober40,rober1e11,hires,orego,e5,bruss32,bruss512"
+large="bs1000,bs10000"
+run bench --problems "vdp-paper,$small" --schemes si-t-2,i-t-2,imex-rk21,radau5 --tols 1e-3:1e-8 "${refs[@]}" \
+  --csv "$out/bench_small.csv" --force > "$out/bench_small.txt"
+run bench --problems "$small" --schemes si-t-2,i-t-2 --tols 1e-3:1e-8 --estimate embedded "${refs[@]}" \
+  --csv "$out/bench_embedded.csv" --force > "$out/bench_embedded.txt"
+run bench --problems "$large" --schemes si-t-2,i-t-2,imex-rk21,radau5 --tols 1e-3:1e-6 "${refs[@]}" \
+  --csv "$out/bench_large.csv" --force > "$out/bench_large.txt"
+/usr/bin/env time -v "$app" bench --problems bs100000 --schemes si-t-2 --tols 1e-3:1e-5 --min-time 0.01 "${refs[@]}" \
+  --csv "$out/bench_huge.csv" --force > "$out/bench_huge.txt" 2> "$out/bench_huge.time" ||
+  run bench --problems bs100000 --schemes si-t-2 --tols 1e-3:1e-5 --min-time 0.01 "${refs[@]}" \
+    --csv "$out/bench_huge.csv" --force > "$out/bench_huge.txt"
+ours=("$out/bench_small.csv" "$out/bench_embedded.csv" "$out/bench_large.csv" "$out/bench_huge.csv")
+{
+  echo "$stamp"
+  echo
+  echo '```'
+  grep -vE '^(wrote|peak) ' "$out/bench_small.txt"
+  grep -E '^(bs|problem)' "$out/bench_large.txt" | grep -v '^problem'
+  grep -E '^bs' "$out/bench_huge.txt"
+  echo '```'
+  memory="$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$out/bench_huge.time" 2>/dev/null || true)"
+  [ -z "$memory" ] || echo "Peak memory of the bs100000 run (si-t-2, 200,000 unknowns): $((memory / 1024)) MiB."
+} > "$blocks/performance.md"
+if [ -n "$peers" ]; then
+  echo "figures: the peers on the same problems (about ten minutes)" >&2
+  "$peers/sundials_bench" bench -p "$small" -s cvode_bdf,ark_imex3 -t 1e-3,1e-4,1e-5,1e-6,1e-7,1e-8 -m 0.2 -B 60 \
+    -r "$peers/refs" > "$out/peers_small.csv"
+  "$peers/sundials_bench" bench -p "$large,bs100000" -s cvode_bdf -t 1e-3,1e-4,1e-5,1e-6 -m 0.2 -B 60 \
+    -r "$peers/refs" > "$out/peers_large.csv"
+  /usr/bin/env time -v "$peers/sundials_bench" bench -p bs100000 -s cvode_bdf -t 1e-4 -m 0.01 -r "$peers/refs" \
+    > /dev/null 2> "$out/peers_huge.time" || true
+  python3 "$peers/report.py" -o "$out/report" "$out/peers_small.csv" "$out/peers_large.csv" "${ours[@]}" >/dev/null
+  cp "$out/report/work_precision_vdp.png" "$png/peers_work_precision_vdp.png"
+  cp "$out/report/work_precision_all.png" "$png/peers_work_precision_all.png"
+  {
+    echo "$stamp"
+    echo
+    echo "CPU time against CVODE (BDF, band solver on the Brusselator) at equal error, median over the runs"
+    echo "with error >= 1e-4 (below 1: faster; in parentheses the number of runs compared):"
+    echo
+    python3 tools/ratios.py --min-error 1e-4 "$out/peers_small.csv" "$out/peers_large.csv" "${ours[@]}"
+    memory="$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$out/peers_huge.time" 2>/dev/null || true)"
+    [ -z "$memory" ] || { echo; echo "Peak memory of CVODE on bs100000: $((memory / 1024)) MiB."; }
+  } > "$blocks/peers.md"
+fi
+if [ -n "${FLOOR:-}" ]; then
+  { echo "$stamp"; echo; echo '```'; bash tools/floor.sh "$FLOOR" 5; echo '```'; } > "$blocks/floor.md"
 fi
 
 # ---------------------------------------------------------------- README blocks
