@@ -29,6 +29,11 @@ module taylorode_linalg_matrix
       integer :: lower = 0, upper = 0
    end type matrix_structure_type
 
+   !> Band products go diagonal by diagonal (long loops) while the band has at most
+   !> this many entries (1 MiB, within a core's cache); column by column (one pass
+   !> over the matrix) beyond
+   integer, parameter :: cached_band_entries = 131072
+
    !> An n x n matrix with the operations the schemes need
    type, abstract :: matrix_type
       !> Order
@@ -344,15 +349,26 @@ contains
       real(dp), intent(in) :: alpha
       real(dp), intent(in) :: x(:)
       real(dp), intent(inout) :: y(:)
-      integer :: d, j, row
-      ! diagonal by diagonal (long loops instead of columns of kl + ku + 1 entries),
-      ! each y(i) still summed over j in increasing order
-      do d = self%kl, -self%ku, -1
-         row = self%diagonal + d
-         do j = max(1, 1 - d), min(self%n, self%n - d)
-            y(j + d) = y(j + d) + (alpha*x(j))*self%ab(row, j)
+      integer :: i, j, d, row
+      real(dp) :: ax
+      if (size(self%ab) <= cached_band_entries) then
+         ! diagonal by diagonal: long loops instead of columns of kl + ku + 1 entries,
+         ! each y(i) still summed over j in increasing order
+         do d = self%kl, -self%ku, -1
+            row = self%diagonal + d
+            do j = max(1, 1 - d), min(self%n, self%n - d)
+               y(j + d) = y(j + d) + (alpha*x(j))*self%ab(row, j)
+            end do
          end do
-      end do
+      else
+         ! column by column: one pass over a matrix that no longer fits in the cache
+         do j = 1, self%n
+            ax = alpha*x(j)
+            do i = max(1, j - self%ku), min(self%n, j + self%kl)
+               y(i) = y(i) + ax*self%ab(self%diagonal + i - j, j)
+            end do
+         end do
+      end if
    end subroutine band_multiply_add
 
    subroutine band_set_zero(self)
