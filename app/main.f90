@@ -9,7 +9,7 @@
 !> place when complete.
 program taylorode_app
    use, intrinsic :: iso_fortran_env, only: error_unit
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan, ieee_value, ieee_quiet_nan
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
       status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
       scheme_count, integrator_options_type, paper_options, norm_max, norm_rms, controller_i, controller_pi, &
@@ -1717,11 +1717,9 @@ contains
    pure function error_text(err) result(text)
       real(dp), intent(in) :: err
       character(len=:), allocatable :: text
-      if (err < 0.0_dp) then
-         text = "n/a"
-      else
-         text = format_real(err, 2)
-      end if
+      text = "n/a"
+      if (ieee_is_nan(err)) return
+      if (err >= 0.0_dp) text = format_real(err, 2)
    end function error_text
 
    pure function status_word(code) result(text)
