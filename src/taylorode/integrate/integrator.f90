@@ -70,7 +70,8 @@ contains
    !> u holds U(t0) on entry and U(t_end) on success; on failure it holds the last
    !> accepted state, at stats%t_reached, and stat says why. With `t_out` (ascending
    !> times in [t0, t_end]) the solution at those times comes back in u_out(:, k)
-   !> from the cubic Hermite interpolant of each accepted step. With `history`
+   !> from the dense output of each accepted step (the scheme's own continuous
+   !> extension, else the cubic Hermite interpolant). With `history`
    !> every attempted step is recorded; `observer` is called after every accepted
    !> step; `events` locates zero crossings (a terminal one ends the integration
    !> there, with status ok). Backward integration (t_end < t0) is not supported:
@@ -254,7 +255,7 @@ contains
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
       integer :: failures, troubles, outcome, next_output
-      logical :: last, need_step, stop_here
+      logical :: last, need_step, stop_here, rhs_pending
       character(len=400) :: text
 
       call system_clock(clock_start, clock_rate)
@@ -268,9 +269,12 @@ contains
       call check_call()
       if (stat%code == status_ok .and. present(history)) &
          call history%start(merge(self%n, 0, self%options%history_states), stat)
+      ! F at the start, for the cubic Hermite interpolant of the first step (a scheme
+      ! with its own dense output needs it only when it has none for a step)
+      rhs_pending = scheme%dense_degree > 0
       if (stat%code == status_ok .and. need_step) then
-         call self%step%reserve(self%n)
-         call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
+         call self%step%reserve(self%n, scheme%dense_degree)
+         if (.not. rhs_pending) call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
       end if
       if (stat%code == status_ok .and. present(events)) call events%start(t, u, stat)
       if (stat%code /= status_ok) then
@@ -438,8 +442,9 @@ contains
          end if
       end subroutine check_call
 
-      !> The accepted step [t, t_end_of_step] into self%step (F at its end included),
-      !> then events (a terminal crossing shortens it), dense output and the observer.
+      !> The accepted step [t, t_end_of_step] into self%step with its dense output (the
+      !> scheme's own, else the cubic Hermite interpolant from F at both ends), then
+      !> events (a terminal crossing shortens it), dense output and the observer.
       subroutine accept_into_step(t_end_of_step)
          real(dp), intent(in) :: t_end_of_step
          logical :: stop_requested
@@ -449,8 +454,17 @@ contains
             step%t_end = t_end_of_step
             step%u_start = u
             step%u_end = self%stepper%u_new
-            step%rhs_start = step%rhs_end
-            call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, self%scratch, scheme%counters)
+            call scheme%dense_output(t, h, step%u_end, step%nodes, step%coefficients, step%degree)
+            if (step%degree == 0) then
+               if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, self%scratch, &
+                  scheme%counters)
+               step%rhs_start = step%rhs_end
+               call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, self%scratch, scheme%counters)
+               call step%set_hermite()
+               rhs_pending = .false.
+            else
+               rhs_pending = .true.
+            end if
             if (present(events)) then
                call events%check_step(step, stop_here, t_stop, self%stepper%delta, stat)
                if (stat%code /= status_ok) return

@@ -30,6 +30,9 @@
 !>   reuses the real factorization, and at the first step and on every retry is
 !>   filtered once more with F(t0, U0 + delta) (ESTRAD); RADAU5 filters only when
 !>   the first estimate fails the error test, which the scheme cannot see;
+!> - the collocation polynomial of the accepted step is its dense output
+!>   (`dense_output`, RADAU5's CONTR5): output times, observers and events cost no
+!>   evaluation of F;
 !> - `step_safety` lowers the integrator's kappa after slow Newton,
 !>   kappa (1 + 2 nit)/(newt + 2 nit), and `predictive_control` makes the
 !>   predictive (Gustafsson) controller the integrator's default for radau5.
@@ -153,6 +156,7 @@ module taylorode_schemes_radau5
       procedure :: step_safety => radau_step_safety
       procedure :: step_hold => radau_step_hold
       procedure :: newton_fraction => radau_newton_fraction
+      procedure :: dense_output => radau_dense_output
    end type radau5_type
 
 contains
@@ -166,6 +170,7 @@ contains
       self%embedded_order = 3
       self%implicit = .true.
       self%predictive_control = .true.
+      self%dense_degree = 3
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
    end function new_radau5
@@ -206,6 +211,32 @@ contains
       real(dp), intent(in) :: tolerance
       fraction = max(10.0_dp*epsilon(1.0_dp)/tolerance, min(newton_fraction_cap, sqrt(tolerance)))
    end function radau_newton_fraction
+
+   !> The collocation polynomial of the step just taken as its dense output (RADAU5's
+   !> CONTR5): u1 + s (c_1 + (s - c2 + 1) (c_2 + (s - c1 + 1) c_3)), s = theta - 1,
+   !> i.e. nodes 1, c2, c1 in theta. None for another step or a u1 the integrator changed.
+   pure subroutine radau_dense_output(self, t, h, u1, nodes, coefficients, degree)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u1(:)
+      real(dp), intent(inout) :: nodes(:)
+      real(dp), intent(inout) :: coefficients(:, 0:)
+      integer, intent(out) :: degree
+      integer :: i
+      degree = 0
+      if (.not. (self%have_candidate .and. t == self%t_start .and. h == self%h_candidate)) return
+      do i = 1, self%n
+         if (u1(i) /= self%u_start(i) + self%z(i, 3)) return
+      end do
+      degree = 3
+      nodes(1:3) = [1.0_dp, c2, c1]
+      do i = 1, self%n
+         coefficients(i, 0) = u1(i)
+         coefficients(i, 1) = self%candidate(i, 1)
+         coefficients(i, 2) = self%candidate(i, 2)
+         coefficients(i, 3) = self%candidate(i, 3)
+      end do
+   end subroutine radau_dense_output
 
    !> Forget the Jacobian, the factorizations, the polynomial and the previous step
    !> (new problem or integration).

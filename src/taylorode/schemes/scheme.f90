@@ -54,6 +54,9 @@ module taylorode_schemes_scheme
       !> Whether the integrator's default controller (controller_auto) is the
       !> predictive one for this scheme (radau5), else the I controller
       logical :: predictive_control = .false.
+      !> Degree of the continuous extension the scheme supplies through `dense_output`
+      !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
+      integer :: dense_degree = 0
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -75,6 +78,8 @@ module taylorode_schemes_scheme
       procedure :: step_hold
       !> Newton fraction of the error weights when options leave it to the scheme
       procedure :: newton_fraction
+      !> The scheme's own dense output of the step it just took (default: none)
+      procedure :: dense_output
    end type scheme_type
 
    abstract interface
@@ -260,6 +265,27 @@ contains
       real(dp), intent(in) :: tolerance
       newton_fraction = default_newton_fraction
    end function newton_fraction
+
+   !> The scheme's continuous extension of the step it just took, from t with size h to
+   !> u1, as a polynomial in theta = (t' - t)/h in Newton form (see
+   !> taylorode_integrate_step): nodes(1:degree) and coefficient columns 0:degree.
+   !> degree = 0 says it has none for this step (a step it did not take, or a u1 the
+   !> integrator changed); the default has none at all.
+   pure subroutine dense_output(self, t, h, u1, nodes, coefficients, degree)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> Start and size of the step
+      real(dp), intent(in) :: t, h
+      !> State the integrator accepted at t + h
+      real(dp), intent(in) :: u1(:)
+      !> Nodes of the Newton form (size dense_degree at least)
+      real(dp), intent(inout) :: nodes(:)
+      !> Coefficient vectors of the Newton form (columns 0:dense_degree at least)
+      real(dp), intent(inout) :: coefficients(:, 0:)
+      !> Degree written (0: none)
+      integer, intent(out) :: degree
+      degree = 0
+   end subroutine dense_output
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then
