@@ -447,7 +447,16 @@ contains
       !> events (a terminal crossing shortens it), dense output and the observer.
       subroutine accept_into_step(t_end_of_step)
          real(dp), intent(in) :: t_end_of_step
-         logical :: stop_requested
+         logical :: stop_requested, output_due
+         if (scheme%dense_degree > 0 .and. .not. (present(events) .or. present(observer))) then
+            ! only output times look at the step: without one inside it, nothing is needed
+            output_due = next_output <= size(t_out)
+            if (output_due) output_due = t_out(next_output) <= t_end_of_step
+            if (.not. output_due) then
+               rhs_pending = .true.
+               return
+            end if
+         end if
          associate (step => self%step)
             step%t_start = t
             step%h = h
