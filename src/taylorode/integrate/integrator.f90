@@ -26,8 +26,6 @@ module taylorode_integrate_integrator
 
    public :: integrate, integrator_type
 
-   !> Step-size factor after a failed attempt (Newton failure or NaN/Inf values)
-   real(dp), parameter :: failure_shrink = 0.25_dp
    !> Steps shorter than this many roundoffs of t cannot advance t reliably (the fast
    !> layers of Van der Pol with mu = 1e6 need steps of ~17 roundoffs of t)
    real(dp), parameter :: roundoff_steps = 2.0_dp
@@ -78,7 +76,8 @@ contains
    !> substitute s = -t.
    !>
    !> Failed attempts (Newton failure, NaN or Inf, an evaluation the problem rejected)
-   !> are retried from the same state with a quarter of the step; the integration
+   !> are retried from the same state with a quarter of the step (after a Newton
+   !> failure: the scheme's factor, by default the same quarter); the integration
    !> gives up after options%max_failures consecutive ones, or after as many NaN/Inf
    !> or rejected evaluations without getting past the point where the first of them
    !> happened (status_nonfinite, status_evaluation_failed). Messages are built in
@@ -379,7 +378,7 @@ contains
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
-            h = failure_shrink*h
+            h = h_next
          end select
          if (present(history)) then
             if (history%failed()) then

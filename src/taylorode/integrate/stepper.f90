@@ -22,13 +22,16 @@ module taylorode_integrate_stepper
    implicit none
    private
 
-   public :: stepper_type, roundoff_weight
+   public :: stepper_type, roundoff_weight, failure_shrink
 
    !> Newton increments are never asked to be smaller than this many roundoffs of |U|
    real(dp), parameter :: newton_roundoff_floor = 10.0_dp
    !> Error weights are never below this fraction of |U_i| (50 roundoffs): a tighter
    !> tolerance asks for more than double precision resolves
    real(dp), parameter :: roundoff_weight = 50.0_dp*epsilon(1.0_dp)
+   !> Step-size factor after a failed attempt (NaN/Inf values, a rejected evaluation,
+   !> and a Newton failure unless the scheme proposes its own factor)
+   real(dp), parameter :: failure_shrink = 0.25_dp
 
    !> Work arrays and controller memory of the step attempts of one integration
    type :: stepper_type
@@ -190,7 +193,8 @@ contains
    !> the new state), attempt_rejected_error, attempt_failed_newton,
    !> attempt_failed_nonfinite or attempt_failed_evaluation (step_stat holds the code);
    !> err is the weighted error (of an attempt that got that far) and h_next the
-   !> controller's next step size. Nothing is allocated, failed attempts included.
+   !> controller's next step size (after a failed attempt: failure_shrink h, or the
+   !> scheme's factor after a Newton failure). Nothing is allocated, failed attempts included.
    subroutine attempt(self, problem, scheme, options, t, h, u, outcome, err, h_next, step_stat)
       !> The stepper
       class(stepper_type), intent(inout) :: self
@@ -208,7 +212,7 @@ contains
       integer, intent(out) :: outcome
       !> Weighted error estimate (unchanged when the attempt failed before it)
       real(dp), intent(inout) :: err
-      !> Next step size proposed by the controller (h on a failed attempt)
+      !> Next step size proposed by the controller (smaller after a failed attempt)
       real(dp), intent(out) :: h_next
       !> Why a failed attempt failed (its code)
       type(status_type), intent(inout) :: step_stat
@@ -236,12 +240,15 @@ contains
       case (status_ok)
       case (status_evaluation_failed)
          outcome = attempt_failed_evaluation
+         h_next = failure_shrink*h
          return
       case (status_nonfinite)
          outcome = attempt_failed_nonfinite
+         h_next = failure_shrink*h
          return
       case default
          outcome = attempt_failed_newton
+         h_next = scheme%failure_factor(failure_shrink)*h
          return
       end select
 

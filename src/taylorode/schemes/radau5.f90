@@ -44,9 +44,10 @@
 !> the Newton fraction to the scheme it is RADAU5's FNEWT,
 !> max(10 eps / rtol, min(0.03, sqrt(rtol))), of the given rtol.
 !>
-!> What the integrator does not take from RADAU5: the factor after a Newton
-!> failure (RADAU5: 0.5, or from the divergence estimate; the integrator: its own)
-!> and the first step size.
+!> After a Newton failure `failure_factor` gives RADAU5's step-size factor: from the
+!> contraction rate when Newton stopped because it would not converge in time,
+!> 0.8 min(20, dyth)^(-1/(4 + NIT - 1 - newt)), else 1/2. What the integrator does
+!> not take from RADAU5: the first step size.
 !>
 !> Counters: one LU factorization counts the real and the complex factorization
 !> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
@@ -105,6 +106,12 @@ module taylorode_schemes_radau5
    real(dp), parameter :: hold_low = 1.0_dp, hold_high = 1.2_dp
    !> FNEWT = max(10 eps / rtol, min(newton_fraction_cap, sqrt(rtol)))
    real(dp), parameter :: newton_fraction_cap = 0.03_dp
+   !> Step-size factor after a Newton failure without a contraction rate to go by
+   !> (divergence, the iteration limit, a singular matrix, a failed evaluation)
+   real(dp), parameter :: failure_halving = 0.5_dp
+   !> After a Newton failure predicted from the contraction rate (dyth >= 1): the factor
+   !> failure_safety min(dyth, failure_high)^(-1/(4 + NIT - 1 - newt))
+   real(dp), parameter :: failure_safety = 0.8_dp, failure_high = 20.0_dp
 
    !> Radau IIA, order 5, with its order-3 embedded error estimate
    type, extends(scheme_type) :: radau5_type
@@ -148,6 +155,8 @@ module taylorode_schemes_radau5
       integer :: faccon_raises = 0
       !> Newton iterations of the last attempt
       integer :: newton_count = 0
+      !> Step-size factor for a retry should the last attempt have failed
+      real(dp) :: retry_factor = failure_halving
    contains
       procedure :: advance => radau_advance
       procedure :: prepare => radau_prepare
@@ -157,6 +166,7 @@ module taylorode_schemes_radau5
       procedure :: step_hold => radau_step_hold
       procedure :: newton_fraction => radau_newton_fraction
       procedure :: dense_output => radau_dense_output
+      procedure :: failure_factor => radau_failure_factor
    end type radau5_type
 
 contains
@@ -238,6 +248,13 @@ contains
       end do
    end subroutine radau_dense_output
 
+   !> RADAU5's factor after a Newton failure (the integrator's factor is not used).
+   pure real(dp) function radau_failure_factor(self, shrink) result(factor)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(in) :: shrink
+      factor = self%retry_factor
+   end function radau_failure_factor
+
    !> Forget the Jacobian, the factorizations, the polynomial and the previous step
    !> (new problem or integration).
    subroutine radau_restart(self)
@@ -297,6 +314,7 @@ contains
       integer :: n, i
 
       n = self%n
+      self%retry_factor = failure_halving
       call begin_step()
       if (.not. self%jacobian_valid) then
          call evaluate_jac_f(problem, t, u0, self%jac, self%counters)
@@ -557,6 +575,8 @@ contains
                   ! the error left after the remaining iterations at this rate
                   dyth = self%faccon*dyno*self%theta**(newton_iteration_limit - 1 - newt)
                   if (dyth >= 1.0_dp) then
+                     self%retry_factor = failure_safety*min(failure_high, dyth)** &
+                        (-1.0_dp/real(3 + newton_iteration_limit - newt, dp))
                      call fail(status_newton_not_converged)
                      return
                   end if

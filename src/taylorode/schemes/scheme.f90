@@ -78,6 +78,8 @@ module taylorode_schemes_scheme
       procedure :: step_hold
       !> Newton fraction of the error weights when options leave it to the scheme
       procedure :: newton_fraction
+      !> Step-size factor for the retry after a Newton failure (default: the integrator's)
+      procedure :: failure_factor
       !> The scheme's own dense output of the step it just took (default: none)
       procedure :: dense_output
    end type scheme_type
@@ -265,6 +267,17 @@ contains
       real(dp), intent(in) :: tolerance
       newton_fraction = default_newton_fraction
    end function newton_fraction
+
+   !> Factor h_new / h for the retry after the last attempt failed in Newton's method
+   !> (or its linear algebra); the default is the integrator's factor unchanged
+   !> (radau5 takes RADAU5's, from the contraction rate Newton had).
+   pure real(dp) function failure_factor(self, shrink)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> The integrator's factor after a failed attempt
+      real(dp), intent(in) :: shrink
+      failure_factor = shrink
+   end function failure_factor
 
    !> The scheme's continuous extension of the step it just took, from t with size h to
    !> u1, as a polynomial in theta = (t' - t)/h in Newton form (see
