@@ -26,6 +26,9 @@ module taylorode_integrate_integrator
 
    public :: integrate, integrator_type
 
+   !> First step size relative to max(1, |t0|) when the state or F is too small to
+   !> give one
+   real(dp), parameter :: fallback_step = 1.0e-6_dp
    !> Steps shorter than this many roundoffs of t cannot advance t reliably (the fast
    !> layers of Van der Pol with mu = 1e6 need steps of ~17 roundoffs of t)
    real(dp), parameter :: roundoff_steps = 2.0_dp
@@ -130,7 +133,8 @@ contains
 
    !> Check the sizes, times, initial state and options, prepare the scheme for the
    !> problem (forgetting what it kept from earlier integrations) and choose the first
-   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w).
+   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w; when either norm is tiny
+   !> 1e-6 max(1, |t0|), which stays above the roundoff of t0).
    subroutine init(self, problem, scheme, t0, u0, options, stat)
       !> The integrator
       class(integrator_type), intent(inout) :: self
@@ -187,7 +191,7 @@ contains
          size_u = self%stepper%weighted_norm(options, u0)
          size_f = self%stepper%weighted_norm(options, self%stepper%delta)
          if (size_u < 1.0e-5_dp .or. size_f < 1.0e-5_dp .or. .not. ieee_is_finite(size_f)) then
-            self%h = 1.0e-6_dp
+            self%h = fallback_step*max(1.0_dp, abs(t0))
          else
             self%h = 0.01_dp*size_u/size_f
          end if
