@@ -31,7 +31,8 @@ module taylorode
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme, scheme_names, scheme_count
    use taylorode_integrate_fixed_step, only: integrate_fixed
-   use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, controller_name
+   use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, controller_predictive, &
+      controller_auto, controller_name
    use taylorode_integrate_options, only: integrator_options_type, paper_options, norm_max, norm_rms, &
       advance_scheme, advance_high, advance_low, error_weight_type, validate_options
    use taylorode_integrate_history, only: step_history_type, write_history_csv, attempt_accepted, &
@@ -55,7 +56,7 @@ module taylorode
    public :: integrate_fixed
    public :: integrate, integrator_type, integration_stats_type, integrator_options_type, paper_options
    public :: accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling, event_any
-   public :: controller_i, controller_pi, controller_pid, controller_name
+   public :: controller_i, controller_pi, controller_pid, controller_predictive, controller_auto, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low, error_weight_type, validate_options
    public :: step_history_type, write_history_csv, attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, attempt_name

@@ -5,11 +5,10 @@ module test_reference
    use taylorode_base_strings, only: format_real
    use test_support, only: stat_message
    use taylorode, only: dp, i8, scheme_type, status_type, new_scheme, integrate, integrate_fixed, &
-      integrator_options_type, integration_stats_type, status_ok, status_max_steps, step_history_type, &
-      attempt_failed_newton
+      integrator_options_type, integration_stats_type, status_ok, status_max_steps, controller_auto, &
+      controller_predictive, controller_i, step_history_type, attempt_failed_newton
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_ic_prepared, vdp_ic_unprepared, &
       robertson_type, new_robertson, test_problem_type, new_test_problem, brusselator_type, new_brusselator
-   use taylorode_integrate_controller, only: controller_auto, controller_predictive, controller_i
    use taylorode_integrate_options, only: norm_rms
    use taylorode_linalg_matrix, only: matrix_structure_type
    use taylorode_base_status, only: status_invalid_argument
