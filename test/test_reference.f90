@@ -463,15 +463,19 @@ contains
    !> After a Newton failure radau5 retries with RADAU5's factor, not the integrator's
    !> quarter: 0.8 min(20, dyth)^(-1/(4 + 7 - 1 - newt)) (between 0.37 and 0.8) when
    !> the contraction rate predicted the failure, else 1/2. Van der Pol mu = 1e3 at
-   !> rtol = atol = 1e-4 fails Newton on some steps (measured 41 times).
+   !> rtol = atol = 1e-4 fails Newton on some steps (measured 41 times). Before the
+   !> first accepted step it shrinks by the quarter at least: Robertson at 1e-9 from
+   !> the automatic first step (0.11, where Newton diverges) needs five retries, ten
+   !> halvings would not do.
    subroutine test_radau_failure_factor(error)
       type(error_type), allocatable, intent(out) :: error
       type(van_der_pol_type) :: problem
+      type(robertson_type) :: robertson
       class(scheme_type), allocatable :: scheme
       type(integration_stats_type) :: stats
       type(step_history_type) :: history
       type(status_type) :: stat
-      real(dp) :: u(2), factor
+      real(dp) :: u(2), u_robertson(3), factor
       integer :: k
 
       problem = new_van_der_pol(1000.0_dp)
@@ -490,6 +494,15 @@ contains
             format_real(history%t(k))//" with the factor "//format_real(factor))
          if (allocated(error)) return
       end do
+
+      robertson = new_robertson()
+      u_robertson = robertson%u0
+      call integrate(robertson, scheme, 0.0_dp, 40.0_dp, u_robertson, integrator_options_type(rtol=1.0e-9_dp, &
+         atol=1.0e-9_dp, norm=norm_rms), stats, stat, history=history)
+      call check(error, stat%code, status_ok, "Robertson: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, history%outcome(1) == attempt_failed_newton .and. history%h(2) <= 0.25_dp*history%h(1), &
+         "Robertson: the first step should fail and shrink by a quarter at least")
    end subroutine test_radau_failure_factor
 
    !> The Brusselator (N = 32, 64 unknowns) declares band storage (bandwidths 2):

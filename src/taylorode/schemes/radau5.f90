@@ -46,8 +46,9 @@
 !>
 !> After a Newton failure `failure_factor` gives RADAU5's step-size factor: from the
 !> contraction rate when Newton stopped because it would not converge in time,
-!> 0.8 min(20, dyth)^(-1/(4 + NIT - 1 - newt)), else 1/2. What the integrator does
-!> not take from RADAU5: the first step size.
+!> 0.8 min(20, dyth)^(-1/(4 + NIT - 1 - newt)), else 1/2 (before the first accepted
+!> step at most the integrator's). What the integrator does not take from RADAU5:
+!> the first step size.
 !>
 !> Counters: one LU factorization counts the real and the complex factorization
 !> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
@@ -248,11 +249,14 @@ contains
       end do
    end subroutine radau_dense_output
 
-   !> RADAU5's factor after a Newton failure (the integrator's factor is not used).
+   !> RADAU5's factor after a Newton failure; before the first accepted step at most
+   !> the integrator's: h is then its first guess, which may be far too large (RADAU5
+   !> starts from 1e-6), and RADAU5's halving would need many retries to get down.
    pure real(dp) function radau_failure_factor(self, shrink) result(factor)
       class(radau5_type), intent(in) :: self
       real(dp), intent(in) :: shrink
       factor = self%retry_factor
+      if (.not. self%have_polynomial) factor = min(factor, shrink)
    end function radau_failure_factor
 
    !> Forget the Jacobian, the factorizations, the polynomial and the previous step
