@@ -127,21 +127,22 @@ module taylorode_schemes_radau5
       logical :: small = .false.
       !> ((alpha + i beta)/h) I - J and its factors
       type(complex_solver_type) :: complex_solver
-      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and the Newton
-      !> right-hand sides, then increments of W
-      real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
-      !> Collocation polynomial of the last accepted step, and of the last successful attempt
-      real(dp), allocatable :: polynomial(:, :), candidate(:, :)
+      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, f at the stages, then
+      !> the Newton right-hand sides and increments of W, and g at the stages
+      real(dp), allocatable :: z(:, :), w(:, :), r(:, :), g_stage(:, :)
+      !> Collocation polynomial of the last accepted step
+      real(dp), allocatable :: polynomial(:, :)
       !> State at the start of the step, F there, a stage state, work space, the
       !> estimate and its filtered right-hand side part
       real(dp), allocatable :: u_start(:), rhs0(:), stage(:), scratch(:), estimate(:), stage_part(:)
       !> Start of the current step
       real(dp) :: t_start = 0.0_dp
-      !> Step sizes of the polynomials, and the one the factorizations were made for
-      real(dp) :: h_polynomial = 0.0_dp, h_candidate = 0.0_dp, h_factored = 0.0_dp
+      !> Step sizes of the polynomial and of the stages in z, and the one the
+      !> factorizations were made for
+      real(dp) :: h_polynomial = 0.0_dp, h_stages = 0.0_dp, h_factored = 0.0_dp
       !> Whether a step has been attempted since the restart, a polynomial of an
-      !> accepted step exists, the last successful attempt left one
-      logical :: started = .false., have_polynomial = .false., have_candidate = .false.
+      !> accepted step exists, z holds the converged stages of the last attempt
+      logical :: started = .false., have_polynomial = .false., have_stages = .false.
       !> Whether J serves the current step, was computed at its start point, and
       !> whether factorizations for h_factored exist
       logical :: jacobian_valid = .false., jacobian_fresh = .false., factored = .false.
@@ -235,18 +236,14 @@ contains
       integer, intent(out) :: degree
       integer :: i
       degree = 0
-      if (.not. (self%have_candidate .and. t == self%t_start .and. h == self%h_candidate)) return
+      if (.not. (self%have_stages .and. t == self%t_start .and. h == self%h_stages)) return
       do i = 1, self%n
          if (u1(i) /= self%u_start(i) + self%z(i, 3)) return
       end do
       degree = 3
       nodes(1:3) = [1.0_dp, c2, c1]
-      do i = 1, self%n
-         coefficients(i, 0) = u1(i)
-         coefficients(i, 1) = self%candidate(i, 1)
-         coefficients(i, 2) = self%candidate(i, 2)
-         coefficients(i, 3) = self%candidate(i, 3)
-      end do
+      coefficients(:, 0) = u1
+      call collocation_polynomial(self%z, coefficients(:, 1:3))
    end subroutine radau_dense_output
 
    !> RADAU5's factor after a Newton failure; before the first accepted step at most
@@ -265,7 +262,7 @@ contains
       class(radau5_type), intent(inout) :: self
       self%started = .false.
       self%have_polynomial = .false.
-      self%have_candidate = .false.
+      self%have_stages = .false.
       self%jacobian_valid = .false.
       self%jacobian_fresh = .false.
       self%factored = .false.
@@ -294,10 +291,10 @@ contains
       end if
       self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
       if (allocated(self%z)) then
-         deallocate (self%z, self%w, self%r, self%polynomial, self%candidate, self%u_start, self%rhs0, &
+         deallocate (self%z, self%w, self%r, self%g_stage, self%polynomial, self%u_start, self%rhs0, &
             self%stage, self%scratch, self%estimate, self%stage_part)
       end if
-      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3), self%candidate(n, 3))
+      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%g_stage(n, 3), self%polynomial(n, 3))
       allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%scratch(n), self%estimate(n), &
          self%stage_part(n))
       if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
@@ -348,9 +345,12 @@ contains
       do i = 1, n
          u1(i) = u0(i) + self%z(i, 3)
       end do
-      call keep_candidate(self, h)
+      ! the stages in z give the collocation polynomial (dense output, and the next
+      ! step's starting values once this one is accepted)
+      self%h_stages = h
+      self%have_stages = .true.
       if (present(delta)) then
-         call estimate_error(self, problem, t, h, u0, stat)
+         call estimate_error(self, problem, t, h, stat)
          delta = self%estimate
       end if
 
@@ -364,14 +364,10 @@ contains
          if (self%started) new_step = .not. (t == self%t_start .and. all(u0 == self%u_start))
          self%started = .true.
          if (new_step) then
-            if (self%have_candidate) then
+            if (self%have_stages) then
                ! the last successful attempt was accepted: its polynomial predicts this step
-               do i = 1, n
-                  self%polynomial(i, 1) = self%candidate(i, 1)
-                  self%polynomial(i, 2) = self%candidate(i, 2)
-                  self%polynomial(i, 3) = self%candidate(i, 3)
-               end do
-               self%h_polynomial = self%h_candidate
+               call collocation_polynomial(self%z, self%polynomial)
+               self%h_polynomial = self%h_stages
                self%have_polynomial = .true.
             end if
             self%retry = .false.
@@ -388,7 +384,7 @@ contains
             if (.not. self%jacobian_fresh) self%jacobian_valid = .false.
          end if
          if (.not. newton%reuse_matrix) self%factored = .false.
-         self%have_candidate = .false.
+         self%have_stages = .false.
       end subroutine begin_step
 
    end subroutine radau_advance
@@ -457,15 +453,15 @@ contains
       integer :: n, i, s, newt, limit
       real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
       real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, magnitude, stage_time(3)
-      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), scratch(:)
+      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), g_stage(:, :), stage(:)
 
       n = self%n
       u0 => self%u_start
       z => self%z
       w => self%w
       r => self%r
+      g_stage => self%g_stage
       stage => self%stage
-      scratch => self%scratch
       if (self%have_polynomial) then
          c3q = h/self%h_polynomial
          c1q = c1*c3q
@@ -510,16 +506,14 @@ contains
             call fail(status_newton_not_converged)
             return
          end if
-         ! F = f + g at the three stages (the problem's parts called directly)
+         ! f and g at the three stages (the problem's parts called directly; F = f + g
+         ! is formed in the transformation below)
          do s = 1, 3
             do i = 1, n
                stage(i) = u0(i) + z(i, s)
             end do
             call problem%f(stage_time(s), stage, r(:, s))
-            call problem%g(stage_time(s), stage, scratch)
-            do i = 1, n
-               r(i, s) = r(i, s) + scratch(i)
-            end do
+            call problem%g(stage_time(s), stage, g_stage(:, s))
          end do
          self%counters%f_evaluations = self%counters%f_evaluations + 3
          self%counters%g_evaluations = self%counters%g_evaluations + 3
@@ -531,9 +525,9 @@ contains
          ! the sum overflows): one test instead of one per value, a quarter of the cost
          magnitude = 0.0_dp
          do i = 1, n
-            f1 = r(i, 1)
-            f2 = r(i, 2)
-            f3 = r(i, 3)
+            f1 = r(i, 1) + g_stage(i, 1)
+            f2 = r(i, 2) + g_stage(i, 2)
+            f3 = r(i, 3) + g_stage(i, 3)
             magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
             r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*w(i, 1)
             r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*w(i, 2) + betan*w(i, 3)
@@ -554,10 +548,20 @@ contains
          self%counters%newton_iterations = self%counters%newton_iterations + 1
          self%counters%linear_solves = self%counters%linear_solves + 1
 
+         ! the size of the increments, and the new iterate (unused should the tests below fail)
          dyno = 0.0_dp
          do i = 1, n
             inverse = 1.0_dp/tolerance(i)
             dyno = dyno + (r(i, 1)*inverse)**2 + (r(i, 2)*inverse)**2 + (r(i, 3)*inverse)**2
+            f1 = w(i, 1) + r(i, 1)
+            f2 = w(i, 2) + r(i, 2)
+            f3 = w(i, 3) + r(i, 3)
+            w(i, 1) = f1
+            w(i, 2) = f2
+            w(i, 3) = f3
+            z(i, 1) = t11*f1 + t12*f2 + t13*f3
+            z(i, 2) = t21*f1 + t22*f2 + t23*f3
+            z(i, 3) = t31*f1 + f2
          end do
          dyno = sqrt(dyno/real(3*n, dp))
          if (.not. (dyno <= huge(1.0_dp))) then
@@ -591,17 +595,6 @@ contains
             end if
          end if
          dynold = max(dyno, epsilon(1.0_dp))
-         do i = 1, n
-            f1 = w(i, 1) + r(i, 1)
-            f2 = w(i, 2) + r(i, 2)
-            f3 = w(i, 3) + r(i, 3)
-            w(i, 1) = f1
-            w(i, 2) = f2
-            w(i, 3) = f3
-            z(i, 1) = t11*f1 + t12*f2 + t13*f3
-            z(i, 2) = t21*f1 + t22*f2 + t23*f3
-            z(i, 3) = t31*f1 + f2
-         end do
          if (converged()) exit
       end do
       self%newton_count = newt
@@ -632,34 +625,31 @@ contains
       end function converged
    end subroutine solve_stages
 
-   !> The collocation polynomial of this attempt, in RADAU5's divided-difference
-   !> form; it predicts the next step once this one is accepted.
-   subroutine keep_candidate(self, h)
-      type(radau5_type), intent(inout) :: self
-      real(dp), intent(in) :: h
+   !> The collocation polynomial through the stage increments z(:, 1:3) at c1, c2, 1
+   !> (and 0 at 0), in RADAU5's divided-difference form (CONT(N+1:4N) of radau5.f).
+   pure subroutine collocation_polynomial(z, polynomial)
+      real(dp), intent(in) :: z(:, :)
+      real(dp), intent(out) :: polynomial(:, :)
       integer :: i
       real(dp) :: z1, z2, z3, ak, acont3
-      do i = 1, self%n
-         z1 = self%z(i, 1)
-         z2 = self%z(i, 2)
-         z3 = self%z(i, 3)
-         self%candidate(i, 1) = (z2 - z3)*(1.0_dp/c2m1)
+      do i = 1, size(z, 1)
+         z1 = z(i, 1)
+         z2 = z(i, 2)
+         z3 = z(i, 3)
+         polynomial(i, 1) = (z2 - z3)*(1.0_dp/c2m1)
          ak = (z1 - z2)*(1.0_dp/c1mc2)
          acont3 = (ak - z1*(1.0_dp/c1))*(1.0_dp/c2)
-         self%candidate(i, 2) = (ak - self%candidate(i, 1))*(1.0_dp/c1m1)
-         self%candidate(i, 3) = self%candidate(i, 2) - acont3
+         polynomial(i, 2) = (ak - polynomial(i, 1))*(1.0_dp/c1m1)
+         polynomial(i, 3) = polynomial(i, 2) - acont3
       end do
-      self%h_candidate = h
-      self%have_candidate = .true.
-   end subroutine keep_candidate
+   end subroutine collocation_polynomial
 
    !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h], filtered
    !> once more through F(t0, U0 + delta) at the first step and on retries.
-   subroutine estimate_error(self, problem, t, h, u0, stat)
+   subroutine estimate_error(self, problem, t, h, stat)
       type(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
-      real(dp), intent(in) :: u0(:)
       type(status_type), intent(inout) :: stat
       integer :: i
       real(dp) :: hee1, hee2, hee3
