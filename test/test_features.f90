@@ -46,6 +46,12 @@ module test_features
       procedure :: weights => standard_weights
    end type standard_weights_type
 
+   !> RADAU5's weights atol + rtol |u_old|, from the start of the step alone
+   type, extends(standard_weights_type) :: start_weights_type
+   contains
+      procedure :: weights => start_weights
+   end type start_weights_type
+
    !> Counts the steps, checks that the interpolant starts at the step's start state
    !> and stops after t_stop
    type, extends(step_observer_type) :: watcher_type
@@ -395,25 +401,39 @@ contains
       call check(error, stat%code, status_size_mismatch, "rtol_vector of the wrong size")
    end subroutine test_tolerance_per_component
 
-   !> Weights of your own that equal the standard ones reproduce the standard run exactly.
+   !> Weights of your own that equal the standard ones reproduce the standard run
+   !> exactly: atol + rtol max(|u_old|, |u_new|) for si-t-2, and for radau5, which
+   !> weighs with the start of the step alone as RADAU5 (its weights are asked for
+   !> with u_new = u_old), atol + rtol |u_old| as well.
    subroutine test_error_weights(error)
       type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "si-t-2", "radau5"]
       type(robertson_type) :: problem
       class(scheme_type), allocatable :: scheme
       type(integrator_options_type) :: options
       type(integration_stats_type) :: standard_stats, own_stats
       type(status_type) :: stat
       real(dp) :: u_standard(3), u_own(3)
+      integer :: k
       problem = new_robertson()
-      call new_scheme("si-t-2", scheme, stat)
-      u_standard = problem%u0
-      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_standard, integrator_options_type(rtol=1.0e-6_dp, &
-         atol=1.0e-10_dp), standard_stats, stat)
-      options%error_weights = standard_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_standard = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_standard, integrator_options_type(rtol=1.0e-6_dp, &
+            atol=1.0e-10_dp), standard_stats, stat)
+         options%error_weights = standard_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
+         u_own = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_own, options, own_stats, stat)
+         call check(error, stat%code == status_ok .and. all(u_own == u_standard) .and. &
+            own_stats%accepted_steps == standard_stats%accepted_steps, trim(names(k))// &
+            ": own weights must reproduce the standard run")
+         if (allocated(error)) return
+      end do
+      options%error_weights = start_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
       u_own = problem%u0
       call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_own, options, own_stats, stat)
       call check(error, stat%code == status_ok .and. all(u_own == u_standard) .and. &
-         own_stats%accepted_steps == standard_stats%accepted_steps, "own weights must reproduce the standard run")
+         own_stats%accepted_steps == standard_stats%accepted_steps, "radau5 weighs with the start of the step")
    end subroutine test_error_weights
 
    subroutine standard_weights(self, u_old, u_new, w)
@@ -422,6 +442,13 @@ contains
       real(dp), intent(out) :: w(:)
       w = self%atol + self%rtol*max(abs(u_old), abs(u_new))
    end subroutine standard_weights
+
+   subroutine start_weights(self, u_old, u_new, w)
+      class(start_weights_type), intent(in) :: self
+      real(dp), intent(in) :: u_old(:), u_new(:)
+      real(dp), intent(out) :: w(:)
+      w = self%atol + self%rtol*abs(u_old)
+   end subroutine start_weights
 
    subroutine watch(self, step, stop)
       class(watcher_type), intent(inout) :: self

@@ -2,7 +2,8 @@
 !> error estimate in the weighted norm, the decision (accept, reject, failed) and
 !> the controller's next step size.
 !>
-!> Error weights: w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|), never below
+!> Error weights: w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|) (|U_i^n| alone for a
+!> scheme that declares `weights_at_start`, radau5), never below
 !> `roundoff_weight` times |U_i| (what double precision can resolve); a component
 !> with atol_i = 0 that is zero is weighed against the size of the whole state (at
 !> least 1), so that pure relative control (atol = 0) works.
@@ -257,7 +258,7 @@ contains
       else if (options%advance == advance_low .and. scheme%order > scheme%embedded_order) then
          self%u_new = self%u_new - self%delta
       end if
-      call self%set_weights(options, u, self%u_new)
+      if (.not. scheme%weights_at_start) call self%set_weights(options, u, self%u_new)
       err = self%weighted_norm(options, self%delta)
       factor = controller_factor(self%controller, scheme%step_safety(options%kappa), self%q, err, &
          self%err_previous, self%err_before)

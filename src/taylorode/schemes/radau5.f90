@@ -38,9 +38,10 @@
 !>   predictive (Gustafsson) controller the integrator's default for radau5.
 !>
 !> Tolerances: radau5 uses the integrator's rtol and atol as they are, like every
-!> scheme of the library; RADAU5's internal transformation rtol' = 0.1 rtol^(2/3)
-!> is not applied (the integrator owns the error test). Callers who want RADAU5's
-!> meaning of a tolerance pass 0.1 rtol^(2/3) themselves. When the options leave
+!> scheme of the library, with RADAU5's weights atol + rtol |U0| from the state at
+!> the start of the step (`weights_at_start`); RADAU5's internal transformation
+!> rtol' = 0.1 rtol^(2/3) is not applied (the integrator owns the error test).
+!> Callers who want RADAU5's meaning of a tolerance pass 0.1 rtol^(2/3) themselves. When the options leave
 !> the Newton fraction to the scheme it is RADAU5's FNEWT,
 !> max(10 eps / rtol, min(0.03, sqrt(rtol))), of the given rtol.
 !>
@@ -182,6 +183,7 @@ contains
       self%embedded_order = 3
       self%implicit = .true.
       self%predictive_control = .true.
+      self%weights_at_start = .true.
       self%dense_degree = 3
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"

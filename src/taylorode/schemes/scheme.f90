@@ -54,6 +54,9 @@ module taylorode_schemes_scheme
       !> Whether the integrator's default controller (controller_auto) is the
       !> predictive one for this scheme (radau5), else the I controller
       logical :: predictive_control = .false.
+      !> Whether the error test weighs with the state at the start of the step alone,
+      !> atol + rtol |U^n| (RADAU5's SCAL), instead of atol + rtol max(|U^n|, |U^{n+1}|)
+      logical :: weights_at_start = .false.
       !> Degree of the continuous extension the scheme supplies through `dense_output`
       !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
       integer :: dense_degree = 0
