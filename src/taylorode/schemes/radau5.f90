@@ -245,7 +245,8 @@ contains
       degree = 3
       nodes(1:3) = [1.0_dp, c2, c1]
       coefficients(:, 0) = u1
-      call collocation_polynomial(self%z, coefficients(:, 1:3))
+      call collocation_polynomial(self%z(:, 1), self%z(:, 2), self%z(:, 3), coefficients(:, 1), coefficients(:, 2), &
+         coefficients(:, 3))
    end subroutine radau_dense_output
 
    !> RADAU5's factor after a Newton failure; before the first accepted step at most
@@ -368,7 +369,8 @@ contains
          if (new_step) then
             if (self%have_stages) then
                ! the last successful attempt was accepted: its polynomial predicts this step
-               call collocation_polynomial(self%z, self%polynomial)
+               call collocation_polynomial(self%z(:, 1), self%z(:, 2), self%z(:, 3), self%polynomial(:, 1), &
+                  self%polynomial(:, 2), self%polynomial(:, 3))
                self%h_polynomial = self%h_stages
                self%have_polynomial = .true.
             end if
@@ -627,23 +629,18 @@ contains
       end function converged
    end subroutine solve_stages
 
-   !> The collocation polynomial through the stage increments z(:, 1:3) at c1, c2, 1
-   !> (and 0 at 0), in RADAU5's divided-difference form (CONT(N+1:4N) of radau5.f).
-   pure subroutine collocation_polynomial(z, polynomial)
-      real(dp), intent(in) :: z(:, :)
-      real(dp), intent(out) :: polynomial(:, :)
-      integer :: i
-      real(dp) :: z1, z2, z3, ak, acont3
-      do i = 1, size(z, 1)
-         z1 = z(i, 1)
-         z2 = z(i, 2)
-         z3 = z(i, 3)
-         polynomial(i, 1) = (z2 - z3)*(1.0_dp/c2m1)
-         ak = (z1 - z2)*(1.0_dp/c1mc2)
-         acont3 = (ak - z1*(1.0_dp/c1))*(1.0_dp/c2)
-         polynomial(i, 2) = (ak - polynomial(i, 1))*(1.0_dp/c1m1)
-         polynomial(i, 3) = polynomial(i, 2) - acont3
-      end do
+   !> The collocation polynomial through the stage increments z1, z2, z3 at c1, c2, 1
+   !> (and 0 at 0), in RADAU5's divided-difference form a1, a2, a3 (CONT(N+1:4N) of
+   !> radau5.f); elemental, so that each use is one loop over the components.
+   elemental subroutine collocation_polynomial(z1, z2, z3, a1, a2, a3)
+      real(dp), intent(in) :: z1, z2, z3
+      real(dp), intent(out) :: a1, a2, a3
+      real(dp) :: ak, acont3
+      a1 = (z2 - z3)*(1.0_dp/c2m1)
+      ak = (z1 - z2)*(1.0_dp/c1mc2)
+      acont3 = (ak - z1*(1.0_dp/c1))*(1.0_dp/c2)
+      a2 = (ak - a1)*(1.0_dp/c1m1)
+      a3 = a2 - acont3
    end subroutine collocation_polynomial
 
    !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h], filtered
