@@ -989,7 +989,8 @@ contains
             call say("error at t = "//format_number(t_end)//": y "//format_real(abs(u(1) - u_ref(1)))// &
                ", z "//format_real(abs(u(2) - u_ref(2)))//" (against radau5 at rtol = atol = 1e-12)")
             call say("max error on the "//format_integer(request%dense_points)//"-point grid: "// &
-               format_real(maxval(abs(u_out - u_out_ref)))//" (cubic Hermite dense output)")
+               format_real(maxval(abs(u_out - u_out_ref)))//" (dense output: "// &
+               trim(merge("the scheme's own", "cubic Hermite   ", scheme%dense_degree > 0))//")")
          end if
       end if
       stat = run_stat

@@ -8,7 +8,7 @@ module test_features
       status_size_mismatch, accepted_step_type, step_observer_type, event_functions_type, event_rising, &
       event_falling, error_weight_type, integrate_fixed
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, robertson_type, new_robertson, &
-      brusselator_type, new_brusselator
+      brusselator_type, new_brusselator, prothero_robinson_type, new_prothero_robinson
    use taylorode_base_strings, only: format_real, format_integer
    implicit none
    private
@@ -46,10 +46,17 @@ module test_features
       procedure :: weights => standard_weights
    end type standard_weights_type
 
-   !> Counts the steps, checks the interpolant and stops after t_stop
+   !> RADAU5's weights atol + rtol |u_old|, from the start of the step alone
+   type, extends(standard_weights_type) :: start_weights_type
+   contains
+      procedure :: weights => start_weights
+   end type start_weights_type
+
+   !> Counts the steps, checks that the interpolant starts at the step's start state
+   !> and stops after t_stop
    type, extends(step_observer_type) :: watcher_type
       integer :: calls = 0
-      real(dp) :: t_stop = huge(1.0_dp), last_end = 0.0_dp, worst_gap = 0.0_dp
+      real(dp) :: t_stop = huge(1.0_dp), last_end = 0.0_dp, worst_gap = 0.0_dp, worst_start = 0.0_dp
    contains
       procedure :: observe => watch
    end type watcher_type
@@ -65,6 +72,8 @@ contains
          new_unittest("observer", test_observer), &
          new_unittest("events-bouncing-ball", test_bouncing_ball), &
          new_unittest("events-robertson-threshold", test_robertson_threshold), &
+         new_unittest("dense-output-radau5-order", test_radau_dense_order), &
+         new_unittest("dense-output-costs", test_dense_output_costs), &
          new_unittest("tolerance-per-component", test_tolerance_per_component), &
          new_unittest("error-weights-of-your-own", test_error_weights), &
          new_unittest("linear-g-declared", test_linear_g) &
@@ -148,37 +157,52 @@ contains
       call check(error, stat%code, status_invalid_argument, "a target behind")
    end subroutine test_continuation_checks
 
-   !> The observer sees every accepted step once, in order; its interpolant agrees with
-   !> dense output; asking to stop ends the integration at that step with status ok.
+   !> The observer sees every accepted step once, in order, with a dense output that
+   !> starts at the step's start state (si-t-2: the cubic Hermite interpolant, radau5:
+   !> its collocation polynomial, exact there to roundoff); asking to stop ends the
+   !> integration at that step with status ok.
    subroutine test_observer(error)
       type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "si-t-2", "radau5"]
       type(van_der_pol_type) :: problem
       class(scheme_type), allocatable :: scheme
       type(watcher_type) :: watcher
       type(integration_stats_type) :: stats
       type(status_type) :: stat
       real(dp) :: u(2)
+      integer :: k
       problem = new_van_der_pol(10.0_dp)
-      call new_scheme("si-t-2", scheme, stat)
-      u = problem%u0
-      call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, integrator_options_type(), stats, stat, observer=watcher)
-      call check(error, stat%code, status_ok, stat_message(stat))
-      if (allocated(error)) return
-      call check(error, int(stats%accepted_steps), watcher%calls, "one call per accepted step")
-      if (allocated(error)) return
-      call check(error, watcher%worst_gap == 0.0_dp, "the steps the observer sees must join up")
-      if (allocated(error)) return
-      watcher = watcher_type(t_stop=1.0_dp)
-      u = problem%u0
-      call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, integrator_options_type(), stats, stat, observer=watcher)
-      call check(error, stat%code == status_ok .and. stats%t_reached >= 1.0_dp .and. stats%t_reached < 2.0_dp .and. &
-         stats%t_reached == watcher%last_end, "stop at the step after t = 1: "//format_real(stats%t_reached, 6))
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         watcher = watcher_type()
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, integrator_options_type(), stats, stat, observer=watcher)
+         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, int(stats%accepted_steps), watcher%calls, trim(names(k))//": one call per accepted step")
+         if (allocated(error)) return
+         call check(error, watcher%worst_gap == 0.0_dp, trim(names(k))//": the steps the observer sees must join up")
+         if (allocated(error)) return
+         call check(error, watcher%worst_start <= 1.0e-14_dp, trim(names(k))//": the dense output misses the "// &
+            "start of a step by "//format_real(watcher%worst_start))
+         if (allocated(error)) return
+         watcher = watcher_type(t_stop=1.0_dp)
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, integrator_options_type(), stats, stat, observer=watcher)
+         call check(error, stat%code == status_ok .and. stats%t_reached >= 1.0_dp .and. stats%t_reached < 2.0_dp &
+            .and. stats%t_reached == watcher%last_end, trim(names(k))//": stop at the step after t = 1: "// &
+            format_real(stats%t_reached, 6))
+         if (allocated(error)) return
+      end do
    end subroutine test_observer
 
    !> A ball dropped from 10 m bounces with restitution 0.9: each ground contact is a
    !> terminal event; the integration continues from it with the velocity reversed.
-   !> i-t-2 and the cubic Hermite interpolant are exact for this quadratic motion, so
-   !> the contact times match the analytic ones to the root finder's accuracy.
+   !> i-t-2 and ex-t-2 with the cubic Hermite interpolant, and radau5 with its
+   !> collocation polynomial, are exact for this quadratic motion, so the contact
+   !> times match the analytic ones to the root finder's accuracy. Steps are at most
+   !> 0.25 s: an error estimate of zero lets steps grow until one flies over a whole
+   !> bounce, where the height has the same sign at both ends.
    subroutine test_bouncing_ball(error)
       type(error_type), allocatable, intent(out) :: error
       type(ball_type) :: ball
@@ -188,14 +212,15 @@ contains
       type(status_type) :: stat
       real(dp) :: u(2), expected, speed
       integer :: bounce
-      character(len=*), parameter :: names(2) = [character(len=6) :: "i-t-2", "ex-t-2"]
+      character(len=*), parameter :: names(3) = [character(len=6) :: "i-t-2", "ex-t-2", "radau5"]
       integer :: k
 
       do k = 1, size(names)
          ground = ground_type(count=1, direction=[event_falling], terminal=[.true.])
          call new_scheme(trim(names(k)), scheme, stat)
          u = [10.0_dp, 0.0_dp]
-         call integrator%init(ball, scheme, 0.0_dp, u, integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp), stat)
+         call integrator%init(ball, scheme, 0.0_dp, u, integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp, &
+            h_max=0.25_dp), stat)
          expected = sqrt(2.0_dp*10.0_dp/gravity)
          speed = gravity*expected
          do bounce = 1, 4
@@ -254,6 +279,97 @@ contains
       call check(error, stat%code == status_ok .and. events%found == 0, "a rising filter must find no crossing")
    end subroutine test_robertson_threshold
 
+   !> radau5's dense output is its collocation polynomial, of order 3 (the stage order):
+   !> on Prothero-Robinson (L = -1e6, exact solution sin t) with constant steps h = 0.1,
+   !> 0.05, 0.025 on [0, 1], its error at a quarter and at half of every step falls like
+   !> h^4 (measured 4.0 and 4.0), while the steps' ends are far more accurate.
+   subroutine test_radau_dense_order(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: refinements = 3
+      type(prothero_robinson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), h, errors(refinements), order
+      real(dp), allocatable :: t_out(:), u_out(:, :)
+      integer :: m, k, steps
+
+      problem = new_prothero_robinson()
+      call new_scheme("radau5", scheme, stat)
+      do m = 1, refinements
+         steps = 10*2**(m - 1)
+         h = 1.0_dp/real(steps, dp)
+         t_out = [(h*(real((k + 1)/2, dp) - merge(0.75_dp, 0.5_dp, mod(k, 2) == 1)), k=1, 2*steps)]
+         if (allocated(u_out)) deallocate (u_out)
+         allocate (u_out(1, size(t_out)))
+         ! constant steps: h0 = h_max = h and tolerances no step fails
+         u = [0.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(rtol=1.0_dp, atol=1.0_dp, &
+            h0=h, h_max=h), stats, stat, t_out=t_out, u_out=u_out)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         errors(m) = maxval(abs(u_out(1, :) - sin(t_out)))
+         call check(error, abs(u(1) - sin(1.0_dp)) < 1.0e-2_dp*errors(m), "h = "//format_real(h)// &
+            ": the end of the steps should be far more accurate than the dense output")
+         if (allocated(error)) return
+      end do
+      do m = 2, refinements
+         order = log(errors(m - 1)/errors(m))/log(2.0_dp)
+         call check(error, order, 4.0_dp, "dense output error ~ h^order, h = "//format_real(1.0_dp/(10*2**(m - 1)))// &
+            ", errors "//format_real(errors(m - 1))//", "//format_real(errors(m)), thr=0.3_dp)
+         if (allocated(error)) return
+      end do
+   end subroutine test_radau_dense_order
+
+   !> Dense output costs radau5 nothing: with 301 output times on Van der Pol (mu = 10)
+   !> it takes the same steps with the same work as without (its collocation
+   !> polynomial needs no evaluation), and the outputs agree with a tight run's to the
+   !> tolerance. i-t-2 (the cubic Hermite interpolant) pays one F per accepted step and
+   !> one at the start.
+   subroutine test_dense_output_costs(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: plain, dense, tight
+      type(status_type) :: stat
+      real(dp) :: u(2), t_out(301), u_out(2, 301), u_tight(2, 301)
+      integer(i8) :: extra
+      integer :: k
+
+      problem = new_van_der_pol(10.0_dp)
+      t_out = [(0.01_dp*real(k - 1, dp), k=1, 301)]
+      call new_scheme("radau5", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 3.0_dp, u, integrator_options_type(rtol=1.0e-11_dp, atol=1.0e-11_dp), &
+         tight, stat, t_out=t_out, u_out=u_tight)
+      call check(error, stat%code, status_ok, "tight run: "//stat_message(stat))
+      if (allocated(error)) return
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 3.0_dp, u, options, plain, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 3.0_dp, u, options, dense, stat, t_out=t_out, u_out=u_out)
+         call check(error, stat%code, status_ok, trim(names(k))//" with t_out: "//stat_message(stat))
+         if (allocated(error)) return
+         extra = merge(0_i8, dense%accepted_steps + 1, k == 1)
+         call check(error, dense%accepted_steps == plain%accepted_steps .and. dense%work%f_evaluations == &
+            plain%work%f_evaluations + extra .and. dense%work%lu_factorizations == plain%work%lu_factorizations &
+            .and. dense%work%newton_iterations == plain%work%newton_iterations, trim(names(k))// &
+            ": dense output should cost "//format_integer(int(extra))//" evaluations, it cost "// &
+            format_integer(int(dense%work%f_evaluations - plain%work%f_evaluations)))
+         if (allocated(error)) return
+         call check(error, maxval(abs(u_out - u_tight)) <= 1.0e-3_dp, trim(names(k))//": dense output off by "// &
+            format_real(maxval(abs(u_out - u_tight))))
+         if (allocated(error)) return
+      end do
+   end subroutine test_dense_output_costs
+
    !> rtol_vector: equal entries reproduce the scalar rtol exactly; looser tolerances on
    !> Robertson's y1 and y3 (which limit the steps at rtol 1e-6) take fewer steps
    !> (measured 138 against 228) while y2, kept at rtol 1e-6, stays within 1e-9 of
@@ -291,25 +407,39 @@ contains
       call check(error, stat%code, status_size_mismatch, "rtol_vector of the wrong size")
    end subroutine test_tolerance_per_component
 
-   !> Weights of your own that equal the standard ones reproduce the standard run exactly.
+   !> Weights of your own that equal the standard ones reproduce the standard run
+   !> exactly: atol + rtol max(|u_old|, |u_new|) for si-t-2, and for radau5, which
+   !> weighs with the start of the step alone as RADAU5 (its weights are asked for
+   !> with u_new = u_old), atol + rtol |u_old| as well.
    subroutine test_error_weights(error)
       type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "si-t-2", "radau5"]
       type(robertson_type) :: problem
       class(scheme_type), allocatable :: scheme
       type(integrator_options_type) :: options
       type(integration_stats_type) :: standard_stats, own_stats
       type(status_type) :: stat
       real(dp) :: u_standard(3), u_own(3)
+      integer :: k
       problem = new_robertson()
-      call new_scheme("si-t-2", scheme, stat)
-      u_standard = problem%u0
-      call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_standard, integrator_options_type(rtol=1.0e-6_dp, &
-         atol=1.0e-10_dp), standard_stats, stat)
-      options%error_weights = standard_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u_standard = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_standard, integrator_options_type(rtol=1.0e-6_dp, &
+            atol=1.0e-10_dp), standard_stats, stat)
+         options%error_weights = standard_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
+         u_own = problem%u0
+         call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_own, options, own_stats, stat)
+         call check(error, stat%code == status_ok .and. all(u_own == u_standard) .and. &
+            own_stats%accepted_steps == standard_stats%accepted_steps, trim(names(k))// &
+            ": own weights must reproduce the standard run")
+         if (allocated(error)) return
+      end do
+      options%error_weights = start_weights_type(rtol=1.0e-6_dp, atol=1.0e-10_dp)
       u_own = problem%u0
       call integrate(problem, scheme, 0.0_dp, 40.0_dp, u_own, options, own_stats, stat)
       call check(error, stat%code == status_ok .and. all(u_own == u_standard) .and. &
-         own_stats%accepted_steps == standard_stats%accepted_steps, "own weights must reproduce the standard run")
+         own_stats%accepted_steps == standard_stats%accepted_steps, "radau5 weighs with the start of the step")
    end subroutine test_error_weights
 
    subroutine standard_weights(self, u_old, u_new, w)
@@ -319,15 +449,23 @@ contains
       w = self%atol + self%rtol*max(abs(u_old), abs(u_new))
    end subroutine standard_weights
 
+   subroutine start_weights(self, u_old, u_new, w)
+      class(start_weights_type), intent(in) :: self
+      real(dp), intent(in) :: u_old(:), u_new(:)
+      real(dp), intent(out) :: w(:)
+      w = self%atol + self%rtol*abs(u_old)
+   end subroutine start_weights
+
    subroutine watch(self, step, stop)
       class(watcher_type), intent(inout) :: self
       type(accepted_step_type), intent(in) :: step
       logical, intent(inout) :: stop
-      real(dp) :: middle(size(step%u_start))
+      real(dp) :: start(size(step%u_start))
       self%calls = self%calls + 1
       self%worst_gap = max(self%worst_gap, abs(step%t_start - self%last_end))
       self%last_end = step%t_end
-      call step%interpolate(step%t_start + 0.5_dp*step%h, middle)
+      call step%interpolate(step%t_start, start)
+      self%worst_start = max(self%worst_start, maxval(abs(start - step%u_start))/max(1.0_dp, maxval(abs(step%u_start))))
       if (step%t_end >= self%t_stop) stop = .true.
    end subroutine watch
 

@@ -59,6 +59,7 @@ contains
          new_unittest("invalid-options", test_invalid_options), &
          new_unittest("maximum-steps", test_max_steps), &
          new_unittest("step-size-underflow", test_step_underflow), &
+         new_unittest("first-step-far-from-zero", test_first_step_far_from_zero), &
          new_unittest("non-finite-values", test_nonfinite_values), &
          new_unittest("newton-failures", test_newton_failures), &
          new_unittest("singular-newton-repeatedly", test_singular_repeatedly), &
@@ -498,6 +499,26 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_nonfinite_values
+
+   !> Where the state and F give no first step (Van der Pol at rest: U0 = F = 0) the
+   !> fallback is relative to |t0|: from t0 = 1e12 a step of 1e-6 would be below the
+   !> roundoff of t and stop the integration at once.
+   subroutine test_first_step_far_from_zero(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("radau5", scheme, stat)
+      u = 0.0_dp
+      call integrate(problem, scheme, 1.0e12_dp, 1.0e12_dp + 1.0e3_dp, u, integrator_options_type(), stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, all(u == 0.0_dp), "the state at rest stays at rest")
+   end subroutine test_first_step_far_from_zero
 
    !> One Newton iteration allowed and a first step far too large: the step fails
    !> in Newton, shrinks, and after max_failures the status is Newton's.

@@ -5,10 +5,10 @@ module test_reference
    use taylorode_base_strings, only: format_real
    use test_support, only: stat_message
    use taylorode, only: dp, i8, scheme_type, status_type, new_scheme, integrate, integrate_fixed, &
-      integrator_options_type, integration_stats_type, status_ok, status_max_steps
+      integrator_options_type, integration_stats_type, status_ok, status_max_steps, controller_auto, &
+      controller_predictive, controller_i, step_history_type, attempt_failed_newton
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_ic_prepared, vdp_ic_unprepared, &
       robertson_type, new_robertson, test_problem_type, new_test_problem, brusselator_type, new_brusselator
-   use taylorode_integrate_controller, only: controller_auto, controller_predictive, controller_i
    use taylorode_integrate_options, only: norm_rms
    use taylorode_linalg_matrix, only: matrix_structure_type
    use taylorode_base_status, only: status_invalid_argument
@@ -46,6 +46,7 @@ contains
          new_unittest("complex-solver-direct", test_complex_solver), &
          new_unittest("radau5-work-per-step", test_radau_work), &
          new_unittest("radau5-predictive-by-default", test_radau_default_controller), &
+         new_unittest("radau5-newton-failure-factor", test_radau_failure_factor), &
          new_unittest("radau5-band-equals-dense", test_radau_band_dense) &
          ]
    end subroutine collect_reference
@@ -392,13 +393,13 @@ contains
 
    !> RADAU5's economy on Van der Pol mu = 1e3 (t in [0, 3000]) at the peer
    !> harness's tolerances rtol = atol = 1e-3 ... 1e-11 (RMS norm): at most 10
-   !> evaluations of F per accepted step at every tolerance (measured 6.9 to 8.4:
+   !> evaluations of F per accepted step at every tolerance (measured 6.9 to 9.4:
    !> about 2.3 Newton iterations of 3 evaluations and one F(U0) for the error
-   !> estimate); from 1e-6 on, at most 0.85 LU factorizations (measured 0.82 to
-   !> 0.69) and 0.6 Jacobians (measured 0.55 to 0.09) per accepted step, because
-   !> both are kept across steps. At looser tolerances Newton failures (30 to 60
-   !> per run, as in RADAU5) cost extra factorizations: at most 1.25 per step
-   !> (measured 1.18 at 1e-3; RADAU5 1.27). The earlier radau5 (one 3n x 3n matrix,
+   !> estimate, and the failed attempts at loose tolerances); from 1e-6 on, at most
+   !> 0.85 LU factorizations (measured 0.82 to 0.69) and 0.6 Jacobians (measured
+   !> 0.55 to 0.09) per accepted step, because both are kept across steps. At looser
+   !> tolerances Newton failures (20 to 45 per run, as in RADAU5) cost extra
+   !> factorizations: at most 1.25 per step (measured 1.20 at 1e-3; RADAU5 1.27). The earlier radau5 (one 3n x 3n matrix,
    !> a second LU every step, explicit starting guess) needed 17 to 21 evaluations
    !> and more than 2 factorizations per step.
    subroutine test_radau_work(error)
@@ -468,6 +469,51 @@ contains
       if (allocated(error)) return
       call check(error, steps(1) /= steps(3), "the predictive and the I controller should take other steps")
    end subroutine test_radau_default_controller
+
+   !> After a Newton failure radau5 retries with RADAU5's factor, not the integrator's
+   !> quarter: 0.8 min(20, dyth)^(-1/(4 + 7 - 1 - newt)) (between 0.37 and 0.8) when
+   !> the contraction rate predicted the failure, else 1/2. Van der Pol mu = 1e3 at
+   !> rtol = atol = 1e-4 fails Newton on some steps (measured 41 times). Before the
+   !> first accepted step it shrinks by the quarter at least: Robertson at 1e-9 from
+   !> the automatic first step (0.11, where Newton diverges) needs five retries, ten
+   !> halvings would not do.
+   subroutine test_radau_failure_factor(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      type(robertson_type) :: robertson
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(step_history_type) :: history
+      type(status_type) :: stat
+      real(dp) :: u(2), u_robertson(3), factor
+      integer :: k
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("radau5", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, problem%t0, problem%t_end, u, integrator_options_type(rtol=1.0e-4_dp, &
+         atol=1.0e-4_dp, norm=norm_rms), stats, stat, history=history)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%rejected_newton > 0, "the run should fail Newton on some steps")
+      if (allocated(error)) return
+      do k = 1, history%count - 1
+         if (history%outcome(k) /= attempt_failed_newton) cycle
+         factor = history%h(k + 1)/history%h(k)
+         call check(error, factor >= 0.37_dp .and. factor <= 0.8_dp, "retry after a Newton failure at t = "// &
+            format_real(history%t(k))//" with the factor "//format_real(factor))
+         if (allocated(error)) return
+      end do
+
+      robertson = new_robertson()
+      u_robertson = robertson%u0
+      call integrate(robertson, scheme, 0.0_dp, 40.0_dp, u_robertson, integrator_options_type(rtol=1.0e-9_dp, &
+         atol=1.0e-9_dp, norm=norm_rms), stats, stat, history=history)
+      call check(error, stat%code, status_ok, "Robertson: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, history%outcome(1) == attempt_failed_newton .and. history%h(2) <= 0.25_dp*history%h(1), &
+         "Robertson: the first step should fail and shrink by a quarter at least")
+   end subroutine test_radau_failure_factor
 
    !> The Brusselator (N = 32, 64 unknowns) declares band storage (bandwidths 2):
    !> radau5 factors band matrices (dgbtrf, zgbtrf) and takes the same steps, to

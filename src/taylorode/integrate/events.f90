@@ -1,7 +1,7 @@
 !> Events are user functions e_i(t, U) whose zero crossings are located on the dense
-!> output of each accepted step (the cubic Hermite interpolant) by the Illinois
-!> variant of regula falsi, with a direction filter (rising, falling or both) and a
-!> terminal flag (the integration stops at the first terminal crossing, at the
+!> output of each accepted step (the scheme's own, else the cubic Hermite
+!> interpolant) by the Illinois variant of regula falsi, with a direction filter
+!> (rising, falling or both) and a terminal flag (the integration stops at the first terminal crossing, at the
 !> located time and interpolated state). Crossings are returned with their times
 !> and states, in time order, as CVODE's root finding, scipy's `events` and Julia's
 !> callbacks do.
@@ -145,7 +145,7 @@ contains
       self%stopped_by = 0
    end subroutine clear
 
-   !> Find the crossings inside an accepted step (the step must carry F at both ends),
+   !> Find the crossings inside an accepted step (with its dense output),
    !> record them in time order and say whether a terminal one stops the integration;
    !> then t_stop and u_stop are where it stops.
    subroutine check_step(self, step, stop, t_stop, u_stop, stat)

@@ -26,8 +26,6 @@ module taylorode_integrate_integrator
 
    public :: integrate, integrator_type
 
-   !> Step-size factor after a failed attempt (Newton failure or NaN/Inf values)
-   real(dp), parameter :: failure_shrink = 0.25_dp
    !> Steps shorter than this many roundoffs of t cannot advance t reliably (the fast
    !> layers of Van der Pol with mu = 1e6 need steps of ~17 roundoffs of t)
    real(dp), parameter :: roundoff_steps = 2.0_dp
@@ -71,14 +69,16 @@ contains
    !> u holds U(t0) on entry and U(t_end) on success; on failure it holds the last
    !> accepted state, at stats%t_reached, and stat says why. With `t_out` (ascending
    !> times in [t0, t_end]) the solution at those times comes back in u_out(:, k)
-   !> from the cubic Hermite interpolant of each accepted step. With `history`
+   !> from the dense output of each accepted step (the scheme's own continuous
+   !> extension, else the cubic Hermite interpolant). With `history`
    !> every attempted step is recorded; `observer` is called after every accepted
    !> step; `events` locates zero crossings (a terminal one ends the integration
    !> there, with status ok). Backward integration (t_end < t0) is not supported:
    !> substitute s = -t.
    !>
    !> Failed attempts (Newton failure, NaN or Inf, an evaluation the problem rejected)
-   !> are retried from the same state with a quarter of the step; the integration
+   !> are retried from the same state with a quarter of the step (after a Newton
+   !> failure: the scheme's factor, by default the same quarter); the integration
    !> gives up after options%max_failures consecutive ones, or after as many NaN/Inf
    !> or rejected evaluations without getting past the point where the first of them
    !> happened (status_nonfinite, status_evaluation_failed). Messages are built in
@@ -131,7 +131,8 @@ contains
 
    !> Check the sizes, times, initial state and options, prepare the scheme for the
    !> problem (forgetting what it kept from earlier integrations) and choose the first
-   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w).
+   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w; when either norm is tiny
+   !> 1e-6 max(1, |t0|), which stays above the roundoff of t0).
    subroutine init(self, problem, scheme, t0, u0, options, stat)
       !> The integrator
       class(integrator_type), intent(inout) :: self
@@ -289,7 +290,7 @@ contains
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
       integer :: failures, troubles, outcome, next_output
-      logical :: last, need_step, stop_here
+      logical :: last, need_step, stop_here, rhs_pending
       character(len=400) :: text
 
       call system_clock(clock_start, clock_rate)
@@ -303,9 +304,12 @@ contains
       call check_call()
       if (stat%code == status_ok .and. present(history)) &
          call history%start(merge(self%n, 0, self%options%history_states), stat)
+      ! F at the start, for the cubic Hermite interpolant of the first step (a scheme
+      ! with its own dense output needs it only when it has none for a step)
+      rhs_pending = scheme%dense_degree > 0
       if (stat%code == status_ok .and. need_step) then
-         call self%step%reserve(self%n)
-         call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
+         call self%step%reserve(self%n, scheme%dense_degree)
+         if (.not. rhs_pending) call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
       end if
       if (stat%code == status_ok .and. present(events)) call events%start(t, u, stat)
       if (stat%code /= status_ok) then
@@ -413,7 +417,7 @@ contains
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
-            h = failure_shrink*h
+            h = h_next
          end select
          if (present(history)) then
             if (history%failed()) then
@@ -476,19 +480,38 @@ contains
          end if
       end subroutine check_call
 
-      !> The accepted step [t, t_end_of_step] into self%step (F at its end included),
-      !> then events (a terminal crossing shortens it), dense output and the observer.
+      !> The accepted step [t, t_end_of_step] into self%step with its dense output (the
+      !> scheme's own, else the cubic Hermite interpolant from F at both ends), then
+      !> events (a terminal crossing shortens it), dense output and the observer.
       subroutine accept_into_step(t_end_of_step)
          real(dp), intent(in) :: t_end_of_step
-         logical :: stop_requested
+         logical :: stop_requested, output_due
+         if (scheme%dense_degree > 0 .and. .not. (present(events) .or. present(observer))) then
+            ! only output times look at the step: without one inside it, nothing is needed
+            output_due = next_output <= size(t_out)
+            if (output_due) output_due = t_out(next_output) <= t_end_of_step
+            if (.not. output_due) then
+               rhs_pending = .true.
+               return
+            end if
+         end if
          associate (step => self%step)
             step%t_start = t
             step%h = h
             step%t_end = t_end_of_step
             step%u_start = u
             step%u_end = self%stepper%u_new
-            step%rhs_start = step%rhs_end
-            call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, self%scratch, scheme%counters)
+            call scheme%dense_output(t, h, step%u_end, step%nodes, step%coefficients, step%degree)
+            if (step%degree == 0) then
+               if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, self%scratch, &
+                  scheme%counters)
+               step%rhs_start = step%rhs_end
+               call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, self%scratch, scheme%counters)
+               call step%set_hermite()
+               rhs_pending = .false.
+            else
+               rhs_pending = .true.
+            end if
             if (present(events)) then
                call events%check_step(step, stop_here, t_stop, self%stepper%delta, stat)
                if (stat%code /= status_ok) return

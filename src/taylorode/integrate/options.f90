@@ -51,7 +51,8 @@ module taylorode_integrate_options
          import :: error_weight_type, dp
          !> The weight function (carries your data)
          class(error_weight_type), intent(in) :: self
-         !> States at both ends of the step (equal before the step is taken)
+         !> States at both ends of the step (equal before the step is taken, and for a
+         !> scheme that weighs with the start of the step alone: radau5)
          real(dp), intent(in) :: u_old(:), u_new(:)
          !> The weights
          real(dp), intent(out) :: w(:)
@@ -59,7 +60,7 @@ module taylorode_integrate_options
    end interface
 
    !> Settings of `integrate`. Weights: w_i = atol_i + rtol_i * max(|U_i^n|, |U_i^{n+1}|)
-   !> (or your own `error_weights`).
+   !> (|U_i^n| alone for radau5, as RADAU5; or your own `error_weights`).
    type :: integrator_options_type
       !> Relative tolerance (>= 0)
       real(dp) :: rtol = 1.0e-6_dp

@@ -9,7 +9,8 @@
 !> Newton's method starts from the line through the last accepted step's two
 !> states, extended to the end of the new step (or of each half step).
 !>
-!> Error weights: w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|), never below
+!> Error weights: w_i = atol_i + rtol max(|U_i^n|, |U_i^{n+1}|) (|U_i^n| alone for a
+!> scheme that declares `weights_at_start`, radau5), never below
 !> `roundoff_weight` times |U_i| (what double precision can resolve); a component
 !> with atol_i = 0 that is zero is weighed against the size of the whole state (at
 !> least 1), so that pure relative control (atol = 0) works.
@@ -30,7 +31,7 @@ module taylorode_integrate_stepper
    implicit none
    private
 
-   public :: stepper_type, roundoff_weight
+   public :: stepper_type, roundoff_weight, failure_shrink
 
    !> With g linear, an accepted step keeps h unless the controller lets it grow by more
    !> than this factor (RADAU5's QUOT2 = 1.2)
@@ -40,6 +41,9 @@ module taylorode_integrate_stepper
    !> Error weights are never below this fraction of |U_i| (50 roundoffs): a tighter
    !> tolerance asks for more than double precision resolves
    real(dp), parameter :: roundoff_weight = 50.0_dp*epsilon(1.0_dp)
+   !> Step-size factor after a failed attempt (NaN/Inf values, a rejected evaluation,
+   !> and a Newton failure unless the scheme proposes its own factor)
+   real(dp), parameter :: failure_shrink = 0.25_dp
 
    !> Work arrays and controller memory of the step attempts of one integration
    type :: stepper_type
@@ -253,7 +257,8 @@ contains
    !> the new state), attempt_rejected_error, attempt_failed_newton,
    !> attempt_failed_nonfinite or attempt_failed_evaluation (step_stat holds the code);
    !> err is the weighted error (of an attempt that got that far) and h_next the
-   !> controller's next step size. Nothing is allocated, failed attempts included.
+   !> controller's next step size (after a failed attempt: failure_shrink h, or the
+   !> scheme's factor after a Newton failure). Nothing is allocated, failed attempts included.
    subroutine attempt(self, problem, scheme, options, t, h, u, outcome, err, h_next, step_stat)
       !> The stepper
       class(stepper_type), intent(inout) :: self
@@ -271,7 +276,7 @@ contains
       integer, intent(out) :: outcome
       !> Weighted error estimate (unchanged when the attempt failed before it)
       real(dp), intent(inout) :: err
-      !> Next step size proposed by the controller (h on a failed attempt)
+      !> Next step size proposed by the controller (smaller after a failed attempt)
       real(dp), intent(out) :: h_next
       !> Why a failed attempt failed (its code)
       type(status_type), intent(inout) :: step_stat
@@ -296,15 +301,24 @@ contains
       else
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
          call run_scheme(scheme, self%newton, t, h, u, self%u_new, self%delta)
-         if (outcome /= attempt_accepted) return
-         if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
-            self%u_new = self%u_new + self%delta
-         else if (options%advance == advance_low .and. scheme%order > scheme%embedded_order) then
-            self%u_new = self%u_new - self%delta
+         if (outcome == attempt_accepted) then
+            if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
+               self%u_new = self%u_new + self%delta
+            else if (options%advance == advance_low .and. scheme%order > scheme%embedded_order) then
+               self%u_new = self%u_new - self%delta
+            end if
          end if
       end if
-      if (outcome /= attempt_accepted) return
-      call self%set_weights(options, u, self%u_new)
+      select case (outcome)
+      case (attempt_accepted)
+      case (attempt_failed_newton)
+         h_next = scheme%failure_factor(failure_shrink)*h
+         return
+      case default
+         h_next = failure_shrink*h
+         return
+      end select
+      if (.not. scheme%weights_at_start) call self%set_weights(options, u, self%u_new)
       err = self%weighted_norm(options, self%delta)
       ! a rejected step shrinks h by the I controller's factor: the PI and PID terms of
       ! earlier (small) errors could otherwise ask for a larger step than the one

@@ -38,7 +38,7 @@ module taylorode_interfaces_legacy
    use taylorode_integrate_options, only: integrator_options_type
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrator_type
-   use taylorode_integrate_step, only: accepted_step_type, hermite_interpolate
+   use taylorode_integrate_step, only: accepted_step_type, newton_form, hermite_degree
    use taylorode_integrate_observer, only: step_observer_type
    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_f_pointer, c_null_ptr
    implicit none
@@ -123,8 +123,11 @@ module taylorode_interfaces_legacy
       procedure(solout_interface), pointer, nopass :: solout => null()
       type(c_ptr) :: rpar = c_null_ptr, ipar = c_null_ptr
       integer :: calls = 0
-      !> The step for TAYLORODE_CONTR: t_start, h, then u_start, F_start, u_end, F_end
+      !> The step for TAYLORODE_CONTR: t_start, h, n, the degree d of the dense output, its
+      !> nodes (room for max_degree) and coefficient columns 0 .. d (n each)
       real(dp), allocatable :: cont(:)
+      !> Largest degree of the dense output (the scheme's own or the cubic Hermite one)
+      integer :: max_degree = hermite_degree
       !> SOLOUT asked to stop
       logical :: stopped = .false.
    contains
@@ -233,7 +236,8 @@ contains
             observer%solout => solout
             observer%rpar = problem%rpar
             observer%ipar = problem%ipar
-            allocate (observer%cont(4*n + 2), source=0.0_dp)
+            observer%max_degree = max(hermite_degree, scheme%dense_degree)
+            allocate (observer%cont(4 + observer%max_degree + n*(observer%max_degree + 1)), source=0.0_dp)
             call start_solout(observer, x, y, n)
             if (observer%stopped) then
                idid = 2
@@ -283,10 +287,8 @@ contains
       integer :: irtrn, nr, lrc, n_copy
       x_copy = x
       y_copy = y
-      self%cont(1) = x
-      self%cont(2) = 1.0_dp
-      self%cont(3:2 + n) = y
-      self%cont(3 + 2*n:2 + 3*n) = y
+      self%cont(1:4) = [x, 1.0_dp, real(n, dp), 0.0_dp]
+      self%cont(5 + self%max_degree:4 + self%max_degree + n) = y
       self%calls = 1
       nr = 1
       lrc = size(self%cont)
@@ -305,14 +307,13 @@ contains
       real(dp), pointer :: rpar(:)
       integer, pointer :: ipar(:)
       real(dp) :: x_old, x_new, y_copy(size(step%u_end))
-      integer :: irtrn, n, lrc, nr
+      integer :: irtrn, n, lrc, nr, first
       n = size(step%u_end)
-      self%cont(1) = step%t_start
-      self%cont(2) = step%h
-      self%cont(3:2 + n) = step%u_start
-      self%cont(3 + n:2 + 2*n) = step%rhs_start
-      self%cont(3 + 2*n:2 + 3*n) = step%u_end
-      self%cont(3 + 3*n:2 + 4*n) = step%rhs_end
+      self%cont(1:4) = [step%t_start, step%h, real(n, dp), real(step%degree, dp)]
+      self%cont(5:4 + step%degree) = step%nodes(:step%degree)
+      first = 5 + self%max_degree
+      self%cont(first:first - 1 + n*(step%degree + 1)) = reshape(step%coefficients(:, :step%degree), &
+         [n*(step%degree + 1)])
       self%calls = self%calls + 1
       nr = self%calls
       lrc = size(self%cont)
@@ -340,10 +341,13 @@ contains
       !> The step as SOLOUT received it
       real(dp), intent(in) :: cont(lrc)
       real(dp) :: u(1)
-      integer :: n
-      n = (lrc - 2)/4
-      call hermite_interpolate(min(max((s - cont(1))/cont(2), 0.0_dp), 1.0_dp), cont(2), cont(2 + i:2 + i), &
-         cont(2 + n + i:2 + n + i), cont(2 + 2*n + i:2 + 2*n + i), cont(2 + 3*n + i:2 + 3*n + i), u)
+      integer :: n, degree, first
+      n = nint(cont(3))
+      degree = nint(cont(4))
+      ! after the room for max_degree nodes: lrc = 4 + max_degree + n (max_degree + 1)
+      first = 5 + (lrc - 4 - n)/(n + 1)
+      call newton_form(min(max((s - cont(1))/cont(2), 0.0_dp), 1.0_dp), cont(5:4 + degree), &
+         reshape(cont(first + i - 1:first - 1 + i + degree*n:n), [1, degree + 1]), u)
       value = u(1)
    end function legacy_interpolate
 

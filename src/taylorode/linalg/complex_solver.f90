@@ -233,10 +233,10 @@ contains
    !> real arithmetic (no packing into a complex vector; the systems of Radau IIA
    !> on small problems are solved a few times per step).
    pure subroutine small_solve_parts(lu, ipiv, inverse_diagonal, re, im)
-      complex(dp), intent(in) :: lu(:, :)
-      integer, intent(in) :: ipiv(:)
-      complex(dp), intent(in) :: inverse_diagonal(:)
-      real(dp), intent(inout) :: re(:), im(:)
+      complex(dp), contiguous, intent(in) :: lu(:, :)
+      integer, contiguous, intent(in) :: ipiv(:)
+      complex(dp), contiguous, intent(in) :: inverse_diagonal(:)
+      real(dp), contiguous, intent(inout) :: re(:), im(:)
       integer :: n, i, k, p
       real(dp) :: swap, br, bi, lr, li
 

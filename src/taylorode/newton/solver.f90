@@ -87,8 +87,9 @@ module taylorode_newton_solver
    type :: newton_solver_type
       !> Factored Newton matrices; the second is allocated when settings ask for it
       type(kept_factorization_type) :: kept(2)
-      !> Unknowns and matrix structure, for a second factorization allocated later
+      !> Unknowns, for a second factorization allocated later
       integer :: m = 0
+      !> Matrix structure, for a second factorization allocated later
       type(matrix_structure_type) :: structure
       !> Solves so far
       integer(i8) :: solves = 0

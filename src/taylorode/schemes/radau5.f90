@@ -30,20 +30,26 @@
 !>   reuses the real factorization, and at the first step and on every retry is
 !>   filtered once more with F(t0, U0 + delta) (ESTRAD); RADAU5 filters only when
 !>   the first estimate fails the error test, which the scheme cannot see;
+!> - the collocation polynomial of the accepted step is its dense output
+!>   (`dense_output`, RADAU5's CONTR5): output times, observers and events cost no
+!>   evaluation of F;
 !> - `step_safety` lowers the integrator's kappa after slow Newton,
 !>   kappa (1 + 2 nit)/(newt + 2 nit), and `predictive_control` makes the
 !>   predictive (Gustafsson) controller the integrator's default for radau5.
 !>
 !> Tolerances: radau5 uses the integrator's rtol and atol as they are, like every
-!> scheme of the library; RADAU5's internal transformation rtol' = 0.1 rtol^(2/3)
-!> is not applied (the integrator owns the error test). Callers who want RADAU5's
-!> meaning of a tolerance pass 0.1 rtol^(2/3) themselves. When the options leave
+!> scheme of the library, with RADAU5's weights atol + rtol |U0| from the state at
+!> the start of the step (`weights_at_start`); RADAU5's internal transformation
+!> rtol' = 0.1 rtol^(2/3) is not applied (the integrator owns the error test).
+!> Callers who want RADAU5's meaning of a tolerance pass 0.1 rtol^(2/3) themselves. When the options leave
 !> the Newton fraction to the scheme it is RADAU5's FNEWT,
 !> max(10 eps / rtol, min(0.03, sqrt(rtol))), of the given rtol.
 !>
-!> What the integrator does not take from RADAU5: the factor after a Newton
-!> failure (RADAU5: 0.5, or from the divergence estimate; the integrator: its own)
-!> and the first step size.
+!> After a Newton failure `failure_factor` gives RADAU5's step-size factor: from the
+!> contraction rate when Newton stopped because it would not converge in time,
+!> 0.8 min(20, dyth)^(-1/(4 + NIT - 1 - newt)), else 1/2 (before the first accepted
+!> step at most the integrator's). What the integrator does not take from RADAU5:
+!> the first step size.
 !>
 !> Counters: one LU factorization counts the real and the complex factorization
 !> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
@@ -102,6 +108,12 @@ module taylorode_schemes_radau5
    real(dp), parameter :: hold_low = 1.0_dp, hold_high = 1.2_dp
    !> FNEWT = max(10 eps / rtol, min(newton_fraction_cap, sqrt(rtol)))
    real(dp), parameter :: newton_fraction_cap = 0.03_dp
+   !> Step-size factor after a Newton failure without a contraction rate to go by
+   !> (divergence, the iteration limit, a singular matrix, a failed evaluation)
+   real(dp), parameter :: failure_halving = 0.5_dp
+   !> After a Newton failure predicted from the contraction rate (dyth >= 1): the factor
+   !> failure_safety min(dyth, failure_high)^(-1/(4 + NIT - 1 - newt))
+   real(dp), parameter :: failure_safety = 0.8_dp, failure_high = 20.0_dp
 
    !> Radau IIA, order 5, with its order-3 embedded error estimate
    type, extends(scheme_type) :: radau5_type
@@ -117,21 +129,22 @@ module taylorode_schemes_radau5
       logical :: small = .false.
       !> ((alpha + i beta)/h) I - J and its factors
       type(complex_solver_type) :: complex_solver
-      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and the Newton
-      !> right-hand sides, then increments of W
-      real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
-      !> Collocation polynomial of the last accepted step, and of the last successful attempt
-      real(dp), allocatable :: polynomial(:, :), candidate(:, :)
+      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, f at the stages, then
+      !> the Newton right-hand sides and increments of W, and g at the stages
+      real(dp), allocatable :: z(:, :), w(:, :), r(:, :), g_stage(:, :)
+      !> Collocation polynomial of the last accepted step
+      real(dp), allocatable :: polynomial(:, :)
       !> State at the start of the step, F there, a stage state, work space, the
       !> estimate and its filtered right-hand side part
       real(dp), allocatable :: u_start(:), rhs0(:), stage(:), scratch(:), estimate(:), stage_part(:)
       !> Start of the current step
       real(dp) :: t_start = 0.0_dp
-      !> Step sizes of the polynomials, and the one the factorizations were made for
-      real(dp) :: h_polynomial = 0.0_dp, h_candidate = 0.0_dp, h_factored = 0.0_dp
+      !> Step sizes of the polynomial and of the stages in z, and the one the
+      !> factorizations were made for
+      real(dp) :: h_polynomial = 0.0_dp, h_stages = 0.0_dp, h_factored = 0.0_dp
       !> Whether a step has been attempted since the restart, a polynomial of an
-      !> accepted step exists, the last successful attempt left one
-      logical :: started = .false., have_polynomial = .false., have_candidate = .false.
+      !> accepted step exists, z holds the converged stages of the last attempt
+      logical :: started = .false., have_polynomial = .false., have_stages = .false.
       !> Whether J serves the current step, was computed at its start point, and
       !> whether factorizations for h_factored exist
       logical :: jacobian_valid = .false., jacobian_fresh = .false., factored = .false.
@@ -146,6 +159,8 @@ module taylorode_schemes_radau5
       integer :: faccon_raises = 0
       !> Newton iterations of the last attempt
       integer :: newton_count = 0
+      !> Step-size factor for a retry should the last attempt have failed
+      real(dp) :: retry_factor = failure_halving
    contains
       !> One step of Radau IIA and, when asked, the filtered order-3 error estimate
       procedure :: advance => radau_advance
@@ -155,6 +170,8 @@ module taylorode_schemes_radau5
       procedure :: step_safety => radau_step_safety
       procedure :: step_hold => radau_step_hold
       procedure :: newton_fraction => radau_newton_fraction
+      procedure :: dense_output => radau_dense_output
+      procedure :: failure_factor => radau_failure_factor
    end type radau5_type
 
 contains
@@ -169,6 +186,8 @@ contains
       self%implicit = .true.
       self%predictive_control = .true.
       self%estimates_own_error = .true.
+      self%weights_at_start = .true.
+      self%dense_degree = 3
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
    end function new_radau5
@@ -211,13 +230,46 @@ contains
       fraction = max(10.0_dp*epsilon(1.0_dp)/tolerance, min(newton_fraction_cap, sqrt(tolerance)))
    end function radau_newton_fraction
 
+   !> The collocation polynomial of the step just taken as its dense output (RADAU5's
+   !> CONTR5): u1 + s (c_1 + (s - c2 + 1) (c_2 + (s - c1 + 1) c_3)), s = theta - 1,
+   !> i.e. nodes 1, c2, c1 in theta. None for another step or a u1 the integrator changed.
+   pure subroutine radau_dense_output(self, t, h, u1, nodes, coefficients, degree)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u1(:)
+      real(dp), intent(inout) :: nodes(:)
+      real(dp), intent(inout) :: coefficients(:, 0:)
+      integer, intent(out) :: degree
+      integer :: i
+      degree = 0
+      if (.not. (self%have_stages .and. t == self%t_start .and. h == self%h_stages)) return
+      do i = 1, self%n
+         if (u1(i) /= self%u_start(i) + self%z(i, 3)) return
+      end do
+      degree = 3
+      nodes(1:3) = [1.0_dp, c2, c1]
+      coefficients(:, 0) = u1
+      call collocation_polynomial(self%z(:, 1), self%z(:, 2), self%z(:, 3), coefficients(:, 1), coefficients(:, 2), &
+         coefficients(:, 3))
+   end subroutine radau_dense_output
+
+   !> RADAU5's factor after a Newton failure; before the first accepted step at most
+   !> the integrator's: h is then its first guess, which may be far too large (RADAU5
+   !> starts from 1e-6), and RADAU5's halving would need many retries to get down.
+   pure real(dp) function radau_failure_factor(self, shrink) result(factor)
+      class(radau5_type), intent(in) :: self
+      real(dp), intent(in) :: shrink
+      factor = self%retry_factor
+      if (.not. self%have_polynomial) factor = min(factor, shrink)
+   end function radau_failure_factor
+
    !> Forget the Jacobian, the factorizations, the polynomial and the previous step
    !> (new problem or integration).
    subroutine radau_restart(self)
       class(radau5_type), intent(inout) :: self
       self%started = .false.
       self%have_polynomial = .false.
-      self%have_candidate = .false.
+      self%have_stages = .false.
       self%jacobian_valid = .false.
       self%jacobian_fresh = .false.
       self%factored = .false.
@@ -246,10 +298,10 @@ contains
       end if
       self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
       if (allocated(self%z)) then
-         deallocate (self%z, self%w, self%r, self%polynomial, self%candidate, self%u_start, self%rhs0, &
+         deallocate (self%z, self%w, self%r, self%g_stage, self%polynomial, self%u_start, self%rhs0, &
             self%stage, self%scratch, self%estimate, self%stage_part)
       end if
-      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3), self%candidate(n, 3))
+      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%g_stage(n, 3), self%polynomial(n, 3))
       allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%scratch(n), self%estimate(n), &
          self%stage_part(n))
       if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
@@ -271,6 +323,7 @@ contains
       integer :: n, i
 
       n = self%n
+      self%retry_factor = failure_halving
       call begin_step()
       if (.not. self%jacobian_valid) then
          call evaluate_jac_f(problem, t, u0, self%jac, self%counters)
@@ -300,9 +353,12 @@ contains
       do i = 1, n
          u1(i) = u0(i) + self%z(i, 3)
       end do
-      call keep_candidate(self, h)
+      ! the stages in z give the collocation polynomial (dense output, and the next
+      ! step's starting values once this one is accepted)
+      self%h_stages = h
+      self%have_stages = .true.
       if (present(delta)) then
-         call estimate_error(self, problem, t, h, u0, stat)
+         call estimate_error(self, problem, t, h, stat)
          delta = self%estimate
       end if
 
@@ -316,14 +372,11 @@ contains
          if (self%started) new_step = .not. (t == self%t_start .and. all(u0 == self%u_start))
          self%started = .true.
          if (new_step) then
-            if (self%have_candidate) then
+            if (self%have_stages) then
                ! the last successful attempt was accepted: its polynomial predicts this step
-               do i = 1, n
-                  self%polynomial(i, 1) = self%candidate(i, 1)
-                  self%polynomial(i, 2) = self%candidate(i, 2)
-                  self%polynomial(i, 3) = self%candidate(i, 3)
-               end do
-               self%h_polynomial = self%h_candidate
+               call collocation_polynomial(self%z(:, 1), self%z(:, 2), self%z(:, 3), self%polynomial(:, 1), &
+                  self%polynomial(:, 2), self%polynomial(:, 3))
+               self%h_polynomial = self%h_stages
                self%have_polynomial = .true.
             end if
             self%retry = .false.
@@ -340,7 +393,7 @@ contains
             if (.not. self%jacobian_fresh) self%jacobian_valid = .false.
          end if
          if (.not. newton%reuse_matrix) self%factored = .false.
-         self%have_candidate = .false.
+         self%have_stages = .false.
       end subroutine begin_step
 
    end subroutine radau_advance
@@ -408,16 +461,16 @@ contains
 
       integer :: n, i, s, newt, limit
       real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
-      real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, stage_time(3)
-      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), scratch(:)
+      real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, magnitude, stage_time(3)
+      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), g_stage(:, :), stage(:)
 
       n = self%n
       u0 => self%u_start
       z => self%z
       w => self%w
       r => self%r
+      g_stage => self%g_stage
       stage => self%stage
-      scratch => self%scratch
       if (self%have_polynomial) then
          c3q = h/self%h_polynomial
          c1q = c1*c3q
@@ -462,16 +515,14 @@ contains
             call fail(status_newton_not_converged)
             return
          end if
-         ! F = f + g at the three stages (the problem's parts called directly)
+         ! f and g at the three stages (the problem's parts called directly; F = f + g
+         ! is formed in the transformation below)
          do s = 1, 3
             do i = 1, n
                stage(i) = u0(i) + z(i, s)
             end do
             call problem%f(stage_time(s), stage, r(:, s))
-            call problem%g(stage_time(s), stage, scratch)
-            do i = 1, n
-               r(i, s) = r(i, s) + scratch(i)
-            end do
+            call problem%g(stage_time(s), stage, g_stage(:, s))
          end do
          self%counters%f_evaluations = self%counters%f_evaluations + 3
          self%counters%g_evaluations = self%counters%g_evaluations + 3
@@ -479,18 +530,22 @@ contains
             call fail(status_evaluation_failed)
             return
          end if
-         if (.not. all(ieee_is_finite(r))) then
-            call fail(status_nonfinite)
-            return
-         end if
+         ! the sum of |F| is finite unless some F is NaN or Inf (or all are so large that
+         ! the sum overflows): one test instead of one per value, a quarter of the cost
+         magnitude = 0.0_dp
          do i = 1, n
-            f1 = r(i, 1)
-            f2 = r(i, 2)
-            f3 = r(i, 3)
+            f1 = r(i, 1) + g_stage(i, 1)
+            f2 = r(i, 2) + g_stage(i, 2)
+            f3 = r(i, 3) + g_stage(i, 3)
+            magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
             r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*w(i, 1)
             r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*w(i, 2) + betan*w(i, 3)
             r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*w(i, 3) - betan*w(i, 2)
          end do
+         if (.not. ieee_is_finite(magnitude)) then
+            call fail(status_nonfinite)
+            return
+         end if
          if (self%small) then
             call small_lu_solve(self%small_matrix, self%small_pivots, r(:, 1), self%small_inverse_diagonal)
          else
@@ -502,10 +557,20 @@ contains
          self%counters%newton_iterations = self%counters%newton_iterations + 1
          self%counters%linear_solves = self%counters%linear_solves + 1
 
+         ! the size of the increments, and the new iterate (unused should the tests below fail)
          dyno = 0.0_dp
          do i = 1, n
             inverse = 1.0_dp/tolerance(i)
             dyno = dyno + (r(i, 1)*inverse)**2 + (r(i, 2)*inverse)**2 + (r(i, 3)*inverse)**2
+            f1 = w(i, 1) + r(i, 1)
+            f2 = w(i, 2) + r(i, 2)
+            f3 = w(i, 3) + r(i, 3)
+            w(i, 1) = f1
+            w(i, 2) = f2
+            w(i, 3) = f3
+            z(i, 1) = t11*f1 + t12*f2 + t13*f3
+            z(i, 2) = t21*f1 + t22*f2 + t23*f3
+            z(i, 3) = t31*f1 + f2
          end do
          dyno = sqrt(dyno/real(3*n, dp))
          if (.not. (dyno <= huge(1.0_dp))) then
@@ -527,6 +592,8 @@ contains
                   ! the error left after the remaining iterations at this rate
                   dyth = self%faccon*dyno*self%theta**(newton_iteration_limit - 1 - newt)
                   if (dyth >= 1.0_dp) then
+                     self%retry_factor = failure_safety*min(failure_high, dyth)** &
+                        (-1.0_dp/real(3 + newton_iteration_limit - newt, dp))
                      call fail(status_newton_not_converged)
                      return
                   end if
@@ -537,17 +604,6 @@ contains
             end if
          end if
          dynold = max(dyno, epsilon(1.0_dp))
-         do i = 1, n
-            f1 = w(i, 1) + r(i, 1)
-            f2 = w(i, 2) + r(i, 2)
-            f3 = w(i, 3) + r(i, 3)
-            w(i, 1) = f1
-            w(i, 2) = f2
-            w(i, 3) = f3
-            z(i, 1) = t11*f1 + t12*f2 + t13*f3
-            z(i, 2) = t21*f1 + t22*f2 + t23*f3
-            z(i, 3) = t31*f1 + f2
-         end do
          if (converged()) exit
       end do
       self%newton_count = newt
@@ -578,34 +634,26 @@ contains
       end function converged
    end subroutine solve_stages
 
-   !> The collocation polynomial of this attempt, in RADAU5's divided-difference
-   !> form; it predicts the next step once this one is accepted.
-   subroutine keep_candidate(self, h)
-      type(radau5_type), intent(inout) :: self
-      real(dp), intent(in) :: h
-      integer :: i
-      real(dp) :: z1, z2, z3, ak, acont3
-      do i = 1, self%n
-         z1 = self%z(i, 1)
-         z2 = self%z(i, 2)
-         z3 = self%z(i, 3)
-         self%candidate(i, 1) = (z2 - z3)*(1.0_dp/c2m1)
-         ak = (z1 - z2)*(1.0_dp/c1mc2)
-         acont3 = (ak - z1*(1.0_dp/c1))*(1.0_dp/c2)
-         self%candidate(i, 2) = (ak - self%candidate(i, 1))*(1.0_dp/c1m1)
-         self%candidate(i, 3) = self%candidate(i, 2) - acont3
-      end do
-      self%h_candidate = h
-      self%have_candidate = .true.
-   end subroutine keep_candidate
+   !> The collocation polynomial through the stage increments z1, z2, z3 at c1, c2, 1
+   !> (and 0 at 0), in RADAU5's divided-difference form a1, a2, a3 (CONT(N+1:4N) of
+   !> radau5.f); elemental, so that each use is one loop over the components.
+   elemental subroutine collocation_polynomial(z1, z2, z3, a1, a2, a3)
+      real(dp), intent(in) :: z1, z2, z3
+      real(dp), intent(out) :: a1, a2, a3
+      real(dp) :: ak, acont3
+      a1 = (z2 - z3)*(1.0_dp/c2m1)
+      ak = (z1 - z2)*(1.0_dp/c1mc2)
+      acont3 = (ak - z1*(1.0_dp/c1))*(1.0_dp/c2)
+      a2 = (ak - a1)*(1.0_dp/c1m1)
+      a3 = a2 - acont3
+   end subroutine collocation_polynomial
 
    !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h], filtered
    !> once more through F(t0, U0 + delta) at the first step and on retries.
-   subroutine estimate_error(self, problem, t, h, u0, stat)
+   subroutine estimate_error(self, problem, t, h, stat)
       type(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
-      real(dp), intent(in) :: u0(:)
       type(status_type), intent(inout) :: stat
       integer :: i
       real(dp) :: hee1, hee2, hee3

@@ -62,6 +62,12 @@ module taylorode_schemes_scheme
       !> returns (radau5) rather than that of the lower-order member (the Taylor and
       !> IMEX pairs): the integrator's default error control then uses the pair
       logical :: estimates_own_error = .false.
+      !> Whether the error test weighs with the state at the start of the step alone,
+      !> atol + rtol |U^n| (RADAU5's SCAL), instead of atol + rtol max(|U^n|, |U^{n+1}|)
+      logical :: weights_at_start = .false.
+      !> Degree of the continuous extension the scheme supplies through `dense_output`
+      !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
+      integer :: dense_degree = 0
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -83,6 +89,10 @@ module taylorode_schemes_scheme
       procedure :: step_hold
       !> Newton fraction of the error weights when options leave it to the scheme
       procedure :: newton_fraction
+      !> Step-size factor for the retry after a Newton failure (default: the integrator's)
+      procedure :: failure_factor
+      !> The scheme's own dense output of the step it just took (default: none)
+      procedure :: dense_output
    end type scheme_type
 
    abstract interface
@@ -281,6 +291,38 @@ contains
          newton_fraction = default_newton_fraction
       end if
    end function newton_fraction
+
+   !> Factor h_new / h for the retry after the last attempt failed in Newton's method
+   !> (or its linear algebra); the default is the integrator's factor unchanged
+   !> (radau5 takes RADAU5's, from the contraction rate Newton had).
+   pure real(dp) function failure_factor(self, shrink)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> The integrator's factor after a failed attempt
+      real(dp), intent(in) :: shrink
+      failure_factor = shrink
+   end function failure_factor
+
+   !> The scheme's continuous extension of the step it just took, from t with size h to
+   !> u1, as a polynomial in theta = (t' - t)/h in Newton form (see
+   !> taylorode_integrate_step): nodes(1:degree) and coefficient columns 0:degree.
+   !> degree = 0 says it has none for this step (a step it did not take, or a u1 the
+   !> integrator changed); the default has none at all.
+   pure subroutine dense_output(self, t, h, u1, nodes, coefficients, degree)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> Start and size of the step
+      real(dp), intent(in) :: t, h
+      !> State the integrator accepted at t + h
+      real(dp), intent(in) :: u1(:)
+      !> Nodes of the Newton form (size dense_degree at least)
+      real(dp), intent(inout) :: nodes(:)
+      !> Coefficient vectors of the Newton form (columns 0:dense_degree at least)
+      real(dp), intent(inout) :: coefficients(:, 0:)
+      !> Degree written (0: none)
+      integer, intent(out) :: degree
+      degree = 0
+   end subroutine dense_output
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then

@@ -63,10 +63,11 @@ module taylorode_schemes_semi_implicit_taylor
       integer :: partner = si_t_1
       !> Values at U0: f, g, F = f + g
       real(dp), allocatable :: f0(:), g0(:), rhs0(:)
-      !> The state and time the values at U0 belong to, and how many of them are
-      !> known (start_values_none, _f, _jacobians, _all)
+      !> The state the values at U0 belong to
       real(dp), allocatable :: u_start(:)
+      !> The time the values at U0 belong to
       real(dp) :: t_start = 0.0_dp
+      !> How many of the values at U0 are known (start_values_none, _f, _jacobians, _all)
       integer :: start = 0
       !> Whether each member's Newton solver and matrices exist
       logical :: ready(3) = .false.
