@@ -27,7 +27,7 @@ module taylorode
       status_evaluation_failed, status_output_error, status_description
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
-   use taylorode_problem_ode, only: ode_problem, ode_problem_fd
+   use taylorode_problem_ode, only: ode_problem, ode_problem_fd, reduce_sum, reduce_max
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme, scheme_names, scheme_count
    use taylorode_integrate_fixed_step, only: integrate_fixed
@@ -51,6 +51,7 @@ module taylorode
       status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
       status_output_error, status_description
    public :: ode_problem, ode_problem_fd, matrix_structure_type, dense_structure, band_structure
+   public :: reduce_sum, reduce_max
    public :: scheme_type, counters_type, new_scheme, scheme_names, scheme_count
    public :: integrate_fixed
    public :: integrate, integrator_type, integration_stats_type, integrator_options_type, paper_options

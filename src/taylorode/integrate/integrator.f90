@@ -6,7 +6,7 @@
 !> the next, so that many short calls cost what one long call costs.
 module taylorode_integrate_integrator
    use taylorode_base_kinds, only: dp, i8
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+   use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
       status_output_error, status_description
    use taylorode_base_counters, only: counters_type
@@ -15,6 +15,7 @@ module taylorode_integrate_integrator
    use taylorode_integrate_options, only: integrator_options_type, validate_options
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_stepper, only: stepper_type
+   use taylorode_integrate_reduction, only: agree_on_outcome, finite_everywhere
    use taylorode_integrate_step, only: accepted_step_type
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_integrate_events, only: event_functions_type
@@ -162,7 +163,7 @@ contains
          call set_status(stat, status_invalid_argument, "integrate: t0 must be finite")
          return
       end if
-      if (.not. all(ieee_is_finite(u0))) then
+      if (.not. finite_everywhere(problem, u0)) then
          call set_status(stat, status_nonfinite, "integrate: the initial state contains NaN or Inf")
          return
       end if
@@ -183,9 +184,9 @@ contains
          call evaluate_start(self, problem, scheme, t0, u0, self%stepper%delta, stat)
          call add_work(self%total, scheme%counters, work_before)
          if (stat%code /= status_ok) return
-         call self%stepper%set_weights(options, u0, u0)
-         size_u = self%stepper%weighted_norm(options, u0)
-         size_f = self%stepper%weighted_norm(options, self%stepper%delta)
+         call self%stepper%set_weights(problem, options, u0, u0)
+         size_u = self%stepper%weighted_norm(problem, options, u0)
+         size_f = self%stepper%weighted_norm(problem, options, self%stepper%delta)
          if (size_u < 1.0e-5_dp .or. size_f < 1.0e-5_dp .or. .not. ieee_is_finite(size_f)) then
             self%h = 1.0e-6_dp
          else
@@ -213,6 +214,8 @@ contains
       else if (.not. all(ieee_is_finite(rhs))) then
          call set_status(stat, status_nonfinite, "integrate: f or g is NaN or Inf at the initial state")
       end if
+      call agree_on_outcome(problem, stat)
+      call describe(stat, "integrate: at the initial state")
    end subroutine evaluate_start
 
    !> Integrate from the current time to t_target (> current time) with the same
@@ -410,7 +413,7 @@ contains
                "before the current time (backward integration is not supported: substitute s = -t)")
             return
          end if
-         if (.not. all(ieee_is_finite(u))) then
+         if (.not. finite_everywhere(problem, u)) then
             call set_status(stat, status_nonfinite, "integrate: the state contains NaN or Inf")
             return
          end if
