@@ -7,6 +7,7 @@
 #   make test-checked    the tests with run-time checks and floating-point traps
 #   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
+#   make ensemble        the ensemble command in an OpenMP release build: serial against threaded time
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
@@ -53,7 +54,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install ensemble
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -78,6 +79,9 @@ test-sanitize: setup test-install
 
 test-threads: setup test-install
 	$(call fpm_test,--profile debug --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)")
+
+ensemble: setup
+	@fpm run --profile release --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)" -- ensemble $(ARGS)
 
 # the installation the interface tests build against (quiet unless it fails)
 test-install:

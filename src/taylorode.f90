@@ -39,6 +39,7 @@ module taylorode
       attempt_name
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrate, integrator_type
+   use taylorode_integrate_ensemble, only: integrate_ensemble, ensemble_threads
    use taylorode_integrate_step, only: accepted_step_type
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_integrate_events, only: event_functions_type, event_rising, event_falling, event_any
@@ -55,6 +56,7 @@ module taylorode
    public :: scheme_type, counters_type, new_scheme, scheme_names, scheme_count
    public :: integrate_fixed
    public :: integrate, integrator_type, integration_stats_type, integrator_options_type, paper_options
+   public :: integrate_ensemble, ensemble_threads
    public :: accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling, event_any
    public :: controller_i, controller_pi, controller_pid, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low, error_weight_type, validate_options

@@ -1,14 +1,19 @@
-!> Beyond one process: Jacobian-vector products, the reduction hook through which a
-!> problem distributed over processes makes every process decide alike (emulated here
-!> by a problem whose `reduce` adds what another process would contribute).
+!> Beyond one process: ensembles over threads (the same results as the serial loop,
+!> failing members included), Jacobian-vector products, and the reduction hook
+!> through which a problem distributed over processes makes every process decide
+!> alike (emulated here by a problem whose `reduce` adds what another process would
+!> contribute).
 module test_scale
    use testdrive, only: new_unittest, unittest_type, error_type, check
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, &
       integrator_options_type, integration_stats_type, status_ok, status_max_steps, status_nonfinite, &
-      status_evaluation_failed, status_newton_diverged, norm_max, norm_rms, reduce_sum, reduce_max
+      status_evaluation_failed, status_newton_diverged, norm_max, norm_rms, reduce_sum, reduce_max, &
+      integrate_ensemble, status_size_mismatch, status_unknown_scheme, status_invalid_argument
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
       brusselator_type, new_brusselator
-   use test_support, only: stat_message
+   use test_support, only: stat_message, run_type, run_app, has_line
+   !$ use omp_lib, only: omp_get_max_threads
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    implicit none
    private
 
@@ -36,12 +41,28 @@ module test_scale
       procedure :: reduce => two_process_reduce
    end type two_process_vdp_type
 
+   !> How a flaky member fails
+   integer, parameter :: failure_none = 0, failure_nan = 1, failure_fatal = 2, failure_rejections = 3
+
+   !> Van der Pol that goes wrong from a time on: NaN, a fatal rejection, or rejections
+   !> it never gets past
+   type, extends(van_der_pol_type) :: flaky_vdp_type
+      !> failure_* : how it goes wrong after t_bad
+      integer :: failure = failure_none
+      real(dp) :: t_bad = huge(1.0_dp)
+   contains
+      procedure :: g => flaky_g
+   end type flaky_vdp_type
+
 contains
 
    !> Collect all exported unit tests
    subroutine collect_scale(testsuite)
       type(unittest_type), allocatable, intent(out) :: testsuite(:)
       testsuite = [ &
+         new_unittest("ensemble-equals-serial", test_ensemble_equals_serial), &
+         new_unittest("ensemble-arguments", test_ensemble_arguments), &
+         new_unittest("ensemble-command", test_ensemble_command), &
          new_unittest("jvp-differences", test_jvp_differences), &
          new_unittest("reduce-default-changes-nothing", test_reduce_changes_nothing), &
          new_unittest("reduce-remote-error", test_remote_error), &
@@ -73,6 +94,130 @@ contains
          if (operation == reduce_sum .and. size(values) == 1 .and. self%calls == 1) values(1) = values(1) + 1.0_dp
       end select
    end subroutine two_process_reduce
+
+   !> g of Van der Pol, then the member's failure after t_bad.
+   subroutine flaky_g(self, t, u, dudt)
+      class(flaky_vdp_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      call self%van_der_pol_type%g(t, u, dudt)
+      if (t <= self%t_bad) return
+      select case (self%failure)
+      case (failure_nan)
+         dudt = ieee_value(1.0_dp, ieee_quiet_nan)
+      case (failure_fatal)
+         call self%reject_evaluation(fatal=.true.)
+      case (failure_rejections)
+         call self%reject_evaluation()
+      end select
+   end subroutine flaky_g
+
+   !> 64 Van der Pol members (mu from 6 to 69), a quarter of them fine, the others
+   !> failing by NaN, a fatal rejection or rejections they never get past: the
+   !> ensemble, on as many threads as OpenMP gives and on one, returns the serial
+   !> loop's states (bit for bit, NaN included), statistics and messages.
+   subroutine test_ensemble_equals_serial(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: members = 64
+      type(flaky_vdp_type) :: problems(members), serial_problems(members)
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: serial_stats(members), stats(members)
+      type(status_type) :: serial_stat(members), member_stat(members), stat
+      class(scheme_type), allocatable :: scheme
+      real(dp) :: serial_u(2, members), u(2, members)
+      integer :: k, run
+
+      options = integrator_options_type(rtol=1.0e-5_dp, atol=1.0e-5_dp)
+      do k = 1, members
+         problems(k)%van_der_pol_type = new_van_der_pol(5.0_dp + real(k, dp))
+         problems(k)%failure = mod(k, 4)
+         problems(k)%t_bad = 0.5_dp + 0.01_dp*k
+      end do
+      serial_problems = problems
+      do k = 1, members
+         serial_u(:, k) = problems(k)%u0
+         call new_scheme("i-t-2", scheme, stat)
+         call integrate(serial_problems(k), scheme, 0.0_dp, 20.0_dp, serial_u(:, k), options, serial_stats(k), &
+            serial_stat(k))
+      end do
+      call check(error, count(serial_stat%code == status_ok) == members/4 .and. &
+         count(serial_stat%code == status_nonfinite) == members/4 .and. &
+         count(serial_stat%code == status_evaluation_failed) == members/2, &
+         "the members should be a quarter fine, a quarter NaN, half rejected")
+      if (allocated(error)) return
+
+      do run = 1, 2
+         do k = 1, members
+            u(:, k) = problems(k)%u0
+         end do
+         if (run == 1) then
+            call integrate_ensemble(problems, "i-t-2", 0.0_dp, 20.0_dp, u, options, stats, member_stat, stat)
+         else
+            call integrate_ensemble(problems, "i-t-2", 0.0_dp, 20.0_dp, u, options, stats, member_stat, stat, &
+               threads=1)
+         end if
+         call check(error, stat%code == serial_stat(1)%code .and. index(stat_message(stat), "48 of 64") > 0, &
+            "the ensemble's status: "//stat_message(stat))
+         if (allocated(error)) return
+         do k = 1, members
+            call check(error, all(transfer(u(:, k), 0_i8, 2) == transfer(serial_u(:, k), 0_i8, 2)) .and. &
+               member_stat(k)%code == serial_stat(k)%code .and. &
+               stat_message(member_stat(k)) == stat_message(serial_stat(k)) .and. &
+               stats(k)%accepted_steps == serial_stats(k)%accepted_steps .and. &
+               stats(k)%rejected_steps() == serial_stats(k)%rejected_steps() .and. &
+               stats(k)%work%g_evaluations == serial_stats(k)%work%g_evaluations, &
+               "member differs from its serial run: "//stat_message(member_stat(k)))
+            if (allocated(error)) return
+         end do
+      end do
+      !$ call check(error, omp_get_max_threads() > 1, "built with OpenMP but running on one thread")
+   end subroutine test_ensemble_equals_serial
+
+   !> Arguments that do not fit: sizes, an unknown scheme, zero threads; nothing runs.
+   subroutine test_ensemble_arguments(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problems(3)
+      type(integration_stats_type) :: stats(3)
+      type(status_type) :: member_stat(3), stat
+      real(dp) :: u(2, 3), u_wrong(2, 2)
+      integer :: k
+      do k = 1, 3
+         problems(k) = new_van_der_pol(10.0_dp)
+         u(:, k) = problems(k)%u0
+      end do
+      u_wrong = u(:, :2)
+      call integrate_ensemble(problems, "i-t-2", 0.0_dp, 1.0_dp, u_wrong, integrator_options_type(), stats, &
+         member_stat, stat)
+      call check(error, stat%code == status_size_mismatch .and. all(member_stat%code == status_size_mismatch) .and. &
+         all(u_wrong == u(:, :2)), "sizes: "//stat_message(stat))
+      if (allocated(error)) return
+      call integrate_ensemble(problems, "i-t-9", 0.0_dp, 1.0_dp, u, integrator_options_type(), stats, &
+         member_stat, stat)
+      call check(error, stat%code == status_unknown_scheme .and. all(member_stat%code == status_unknown_scheme), &
+         "unknown scheme: "//stat_message(stat))
+      if (allocated(error)) return
+      call integrate_ensemble(problems, "i-t-2", 0.0_dp, 1.0_dp, u, integrator_options_type(), stats, &
+         member_stat, stat, threads=0)
+      call check(error, stat%code == status_invalid_argument .and. all(stats%accepted_steps == 0), &
+         "zero threads: "//stat_message(stat))
+   end subroutine test_ensemble_arguments
+
+   !> The app's ensemble command times a small sweep and finds the threaded results equal
+   !> to the serial ones; impossible counts are mistakes on the command line.
+   subroutine test_ensemble_command(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call run_app("ensemble --members 6 --repeats 1 --scheme si-t-2", run)
+      call check(error, run%exit_status == 0 .and. has_line(run%stdout, "6 members") .and. &
+         has_line(run%stdout, "speed-up") .and. has_line(run%stdout, "bit for bit: yes"), "ensemble command")
+      if (allocated(error)) return
+      call run_app("ensemble --threads 0", run)
+      call check(error, run%exit_status == 2 .and. has_line(run%stderr, "--threads must be at least 1"), &
+         "--threads 0 accepted")
+      if (allocated(error)) return
+      call run_app("vdp --members 3", run)
+      call check(error, run%exit_status, 2, "--members accepted by vdp")
+   end subroutine test_ensemble_command
 
    !> The default jvp_f and jvp_g against the analytic Jacobians times v, on Van der
    !> Pol (both splittings) and the Brusselator; a zero direction gives exactly zero.
