@@ -8,6 +8,7 @@
 #   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
 #   make ensemble        the ensemble command in an OpenMP release build: serial against threaded time
+#   make test-mpi        the package in mpi/ (ensembles over MPI ranks) on 1 and 2 ranks; installs Open MPI
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
@@ -54,7 +55,8 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install ensemble
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install ensemble \
+	test-mpi
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -82,6 +84,10 @@ test-threads: setup test-install
 
 ensemble: setup
 	@fpm run --profile release --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)" -- ensemble $(ARGS)
+
+test-mpi: setup
+	@bash tools/setup.sh mpi
+	@bash tools/test-parallel.sh mpi
 
 # the installation the interface tests build against (quiet unless it fails)
 test-install:
