@@ -9,6 +9,7 @@
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
 #   make ensemble        the ensemble command in an OpenMP release build: serial against threaded time
 #   make test-mpi        the package in mpi/ (ensembles over MPI ranks) on 1 and 2 ranks; installs Open MPI
+#   make test-petsc      the package in petsc/ (one system over ranks, PETSc) on 1 and 2 ranks; installs PETSc
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
@@ -56,7 +57,7 @@ define fpm_test
 endef
 
 .PHONY: help setup run test test-checked test-sanitize test-threads test-install build install ensemble \
-	test-mpi
+	test-mpi test-petsc
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -88,6 +89,10 @@ ensemble: setup
 test-mpi: setup
 	@bash tools/setup.sh mpi
 	@bash tools/test-parallel.sh mpi
+
+test-petsc: setup
+	@bash tools/setup.sh petsc
+	@bash tools/test-parallel.sh petsc
 
 # the installation the interface tests build against (quiet unless it fails)
 test-install:

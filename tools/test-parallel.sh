@@ -24,9 +24,10 @@ finish() {
   exit $?
 }
 
-# Open MPI refuses to start as root unless told; more ranks than cores is allowed
+# Open MPI refuses to start as root unless told; more ranks than cores is allowed; a
+# run that hangs (ranks that stopped agreeing) is ended after 10 minutes
 if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-ranks() { local np="$1"; shift; mpirun --oversubscribe -np "$np" "$@"; }
+ranks() { local np="$1"; shift; timeout 600 mpirun --oversubscribe -np "$np" "$@"; }
 
 flags=()
 if [ "$package" = petsc ]; then
