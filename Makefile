@@ -7,6 +7,9 @@
 #   make test-checked    the tests with run-time checks and floating-point traps
 #   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
+#   make ensemble        the ensemble command in an OpenMP release build: serial against threaded time
+#   make test-mpi        the package in mpi/ (ensembles over MPI ranks) on 1 and 2 ranks; installs Open MPI
+#   make test-petsc      the package in petsc/ (one system over ranks, PETSc) on 1 and 2 ranks; installs PETSc
 #   make build           debug and release builds (the debug profile warns with -Wall -Wextra)
 #   make floor           i-t-2's time per step on the paper's run against a hand-coded floor
 #                        (FLOOR=path/to/it2_vdp.c, default ../shared/peers/floor/it2_vdp.c)
@@ -59,7 +62,8 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install floor docs figures
+.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install floor docs figures \
+	ensemble test-mpi test-petsc
 
 help:
 	@sed -n '/^#   make/s/^# *//p' Makefile
@@ -84,6 +88,17 @@ test-sanitize: setup test-install
 
 test-threads: setup test-install
 	$(call fpm_test,--profile debug --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)")
+
+ensemble: setup
+	@fpm run --profile release --flag "$(THREADS_FLAGS)" --link-flag "$(THREADS_FLAGS)" -- ensemble $(ARGS)
+
+test-mpi: setup
+	@bash tools/setup.sh mpi
+	@bash tools/test-parallel.sh mpi
+
+test-petsc: setup
+	@bash tools/setup.sh petsc
+	@bash tools/test-parallel.sh petsc
 
 # the installation the interface tests build against (quiet unless it fails)
 test-install:

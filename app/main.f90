@@ -21,7 +21,7 @@ program taylorode_app
       new_orego, orego_split_bilinear_stiff, new_e5, brusselator_type, new_brusselator
    use taylorode_analysis, only: timed_run, timed_run_type, reference_run, tolerance_scale, &
       work_precision_config_type, work_precision_point_type, work_precision, step_stability, s1_supremum, &
-      s1_axis_crossings
+      s1_axis_crossings, ensemble_timing_type, time_ensemble
    use taylorode_base_status, only: set_status
    use taylorode_base_strings, only: format_real, format_count, format_fixed, format_integer, format_number, &
       pad, choose
@@ -34,20 +34,23 @@ program taylorode_app
    character(len=*), parameter :: version = "0.2.0"
    !> Subcommands
    character(len=*), parameter :: command_names(*) = [character(len=9) :: &
-      "table", "vdp", "sweep", "stability", "extreme", "bench"]
+      "table", "vdp", "sweep", "stability", "extreme", "bench", "ensemble"]
    !> Options that take a value
    character(len=*), parameter :: valued_options(*) = [character(len=12) :: "--out", "--scheme", "--ic", &
       "--mu", "--tend", "--split", "--rtol", "--atol", "--norm", "--controller", "--h0", "--hmax", &
       "--history", "--dense", "--budget", "--repeats", "--problem", "--schemes", "--tols", "--grid", &
-      "--estimate", "--settings", "--problems", "--min-time", "--refs", "--csv"]
+      "--estimate", "--settings", "--problems", "--min-time", "--refs", "--csv", "--members", "--threads"]
    !> Step budget per run of table, sweep and bench unless --budget (or --full for table)
    integer(i8), parameter :: default_budget = 2000000_i8
    !> Step budget of a vdp run (and its reference run) unless --budget
    integer(i8), parameter :: default_vdp_budget = 10000000_i8
    !> Upper bounds of the counts a user may ask for: each keeps a run finite
    integer(i8), parameter :: max_budget = 1000000000_i8
+   !> ensemble: final time of every member (mu = 1 oscillates three times, mu = 1000 stays on
+   !> its first slow branch: members differ in cost)
+   real(dp), parameter :: ensemble_t_end = 20.0_dp
    integer, parameter :: max_dense_points = 1000000, max_repeats = 100, max_grid = 2001, &
-      max_decades = 16
+      max_decades = 16, max_members = 100000, max_threads = 1024
    !> bench: longest accumulated CPU time per run (--min-time)
    real(dp), parameter :: max_min_time = 3600.0_dp
    !> Problems of the bench command: the peer harness's, and the paper's Van der Pol run
@@ -102,6 +105,8 @@ program taylorode_app
       real(dp), allocatable :: tols(:)
       real(dp) :: min_time = 0.2_dp
       character(len=:), allocatable :: refs_dir, csv_file
+      !> ensemble: members and threads (0: as many as OpenMP gives)
+      integer :: members = 64, threads = 0
    end type request_type
 
    !> A problem of the bench command as the peer harness runs it
@@ -182,6 +187,8 @@ program taylorode_app
       call run_extreme(request, tables, stat)
    case ("bench")
       call run_bench(request, stat)
+   case ("ensemble")
+      call run_ensemble(request, stat)
    end select
    call write_tables(request, tables, write_stat)
    call finish_output()
@@ -361,7 +368,7 @@ contains
          end if
          request%out_dir = value
       case ("--scheme")
-         if (.not. allowed(request, option, ["vdp"], stat)) return
+         if (.not. allowed(request, option, ["vdp     ", "ensemble"], stat)) return
          if (.not. known_scheme(value, stat)) return
          request%scheme = value
       case ("--ic")
@@ -493,6 +500,14 @@ contains
             call set_status(stat, status_invalid_argument, "--csv needs a file name"); return
          end if
          request%csv_file = value
+      case ("--members")
+         if (.not. allowed(request, option, ["ensemble"], stat)) return
+         if (.not. read_count(option, value, 1_i8, int(max_members, i8), "members", count, stat)) return
+         request%members = int(count)
+      case ("--threads")
+         if (.not. allowed(request, option, ["ensemble"], stat)) return
+         if (.not. read_count(option, value, 1_i8, int(max_threads, i8), "threads", count, stat)) return
+         request%threads = int(count)
       end select
       ok = .true.
    end function parse_option
@@ -769,6 +784,17 @@ contains
             "                radau5 its own)"//nl// &
             "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>,"//nl// &
             "                taylorode_<scheme>_embedded with --estimate embedded)"
+      case ("ensemble")
+         text = "taylorode ensemble: a Van der Pol sweep over mu on one thread and on several (use --profile"//nl// &
+            "  release and an OpenMP build: fpm run --profile release --flag -fopenmp --link-flag -fopenmp)"//nl// &
+            "  members with mu spread logarithmically over [1, 1000], t in [0, "// &
+            format_fixed(ensemble_t_end, 0)//"], rtol = atol = 1e-6;"//nl// &
+            "  wall-clock medians of interleaved runs, the speed-up, and a check that the threaded"//nl// &
+            "  results equal the serial ones bit for bit (exit status 1 if not)"//nl// &
+            "  --members N   members (default 64)"//nl// &
+            "  --scheme NAME one of "//join(scheme_names)//" (default i-t-2)"//nl// &
+            "  --threads T   threads of the threaded runs (default: as many as OpenMP gives)"//nl// &
+            "  --repeats N   runs of each kind for the medians (default 5)"
       case default
          text = "taylorode "//version//": one-step Taylor schemes for stiff ODEs U' = f(U) + g(U)"//nl// &
             "usage: taylorode [COMMAND] [OPTIONS]     (no command: table)"//nl// &
@@ -778,6 +804,7 @@ contains
             "  stability  stability functions, S1 regions and L-stability"//nl// &
             "  extreme    stiff and extreme cases, pass/fail"//nl// &
             "  bench      work at equal accuracy on the peer solvers' problems"//nl// &
+            "  ensemble   a parameter sweep on one thread and on several: speed-up"//nl// &
             "taylorode COMMAND --help (or taylorode help COMMAND) describes each command;"//nl// &
             "taylorode --version prints the version. Exit status: 0 success, 1 a run or check"//nl// &
             "failed or an output could not be written, 2 a mistake on the command line."
@@ -1513,6 +1540,43 @@ contains
       if (bench%last_component == 0) bench%last_component = size(bench%u0)
       stat%code = status_ok
    end subroutine make_bench_problem
+
+   !> ensemble: a Van der Pol sweep over mu timed on one thread and on several.
+   subroutine run_ensemble(request, stat)
+      type(request_type), intent(in) :: request
+      type(status_type), intent(out) :: stat
+      type(van_der_pol_type), allocatable :: problems(:)
+      type(integrator_options_type) :: options
+      type(ensemble_timing_type) :: timing
+      real(dp), allocatable :: u0(:, :)
+      character(len=:), allocatable :: scheme
+      integer :: k
+
+      scheme = request%scheme
+      allocate (problems(request%members), u0(2, request%members))
+      do k = 1, request%members
+         problems(k) = new_van_der_pol(10.0_dp**(3.0_dp*real(k - 1, dp)/real(max(request%members - 1, 1), dp)))
+         u0(:, k) = problems(k)%u0
+      end do
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
+      call progress("ensemble: "//format_integer(request%members)//" members, "//format_integer(request%repeats)// &
+         " runs on one thread and as many on several")
+      call time_ensemble(problems, scheme, 0.0_dp, ensemble_t_end, u0, options, request%threads, request%repeats, &
+         timing, stat)
+      if (stat%code /= status_ok) return
+      call say("Van der Pol ensemble: "//format_integer(timing%members)//" members, mu from 1 to 1000 "// &
+         "(logarithmic), t in [0, "//format_fixed(ensemble_t_end, 0)//"], "//scheme//", rtol = atol = 1e-6; "// &
+         format_count(timing%accepted_steps)//" accepted steps in all, "//format_integer(timing%failed_members)// &
+         " members failed")
+      call say("wall-clock seconds, median of "//format_integer(timing%repeats)//" interleaved runs each:")
+      call say("  1 thread:    "//format_fixed(timing%serial_seconds, 3))
+      call say("  "//pad(format_integer(timing%threads)//choose(timing%threads == 1, " thread:", " threads:"), -11)// &
+         "  "// &
+         format_fixed(timing%threaded_seconds, 3)//"   speed-up "//format_fixed(timing%speedup, 2)// &
+         choose(timing%threads == 1, "   (one thread: build with OpenMP, see --help)", ""))
+      call say("threaded results equal to the serial ones bit for bit: "//choose(timing%identical, "yes", "NO"))
+      if (.not. timing%identical) checks_failed = .true.
+   end subroutine run_ensemble
 
    !> The reference solution at the output times: the harness's file DIR/<name>.csv
    !> (--refs), else radau5 at rtol = 1e-12.

@@ -27,7 +27,7 @@ module taylorode
       status_evaluation_failed, status_output_error, status_description
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
-   use taylorode_problem_ode, only: ode_problem, ode_problem_fd
+   use taylorode_problem_ode, only: ode_problem, ode_problem_fd, reduce_sum, reduce_max
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme, scheme_names, scheme_count
    use taylorode_integrate_fixed_step, only: integrate_fixed
@@ -41,6 +41,7 @@ module taylorode
       attempt_name
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrate, integrator_type
+   use taylorode_integrate_ensemble, only: integrate_ensemble, ensemble_threads
    use taylorode_integrate_step, only: accepted_step_type
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_integrate_events, only: event_functions_type, event_rising, event_falling, event_any
@@ -53,9 +54,11 @@ module taylorode
       status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
       status_output_error, status_description
    public :: ode_problem, ode_problem_fd, matrix_structure_type, dense_structure, band_structure
+   public :: reduce_sum, reduce_max
    public :: scheme_type, counters_type, new_scheme, scheme_names, scheme_count
    public :: integrate_fixed
    public :: integrate, integrator_type, integration_stats_type, integrator_options_type, paper_options
+   public :: integrate_ensemble, ensemble_threads
    public :: accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling, event_any
    public :: controller_i, controller_pi, controller_pid, controller_predictive, controller_auto, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low, error_weight_type, validate_options

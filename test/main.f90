@@ -11,6 +11,7 @@ program tester
    use test_problems, only: collect_problems
    use test_reference, only: collect_reference
    use test_robustness, only: collect_robustness
+   use test_scale, only: collect_scale
    use test_schemes, only: collect_schemes
    implicit none
 
@@ -28,7 +29,8 @@ program tester
       new_testsuite("features", collect_features), &
       new_testsuite("interfaces", collect_interfaces), &
       new_testsuite("app", collect_app), &
-      new_testsuite("robustness", collect_robustness) &
+      new_testsuite("robustness", collect_robustness), &
+      new_testsuite("scale", collect_scale) &
       ]
    passed = 0
    failed = 0

@@ -7,6 +7,8 @@
 #   fpm 0.12.0                  : the one on PATH if it is 0.12.0, otherwise PyPI's,
 #                                 installed into the project's virtual environment
 #                                 .venv (the Makefile puts .venv/bin first on PATH)
+#   with the argument mpi       : Open MPI (mpif90, mpirun) for the package in mpi/
+#   with the argument petsc     : Open MPI and PETSc (petsc-dev) for the package in petsc/
 #   test-drive v0.5.0           : fetched by fpm itself when its repository can be
 #                                 reached; otherwise our stand-in (tools/testdrive-standin)
 #                                 is seeded into build/dependencies/test-drive. A broken
@@ -67,7 +69,17 @@ command -v git >/dev/null 2>&1 || packages+=(git)
 # the C, F77 and Python interface tests build against an installation through pkg-config
 command -v pkg-config >/dev/null 2>&1 || packages+=(pkg-config)
 command -v cc >/dev/null 2>&1 || packages+=(gcc)
-if [ "${#packages[@]}" -gt 0 ]; then apt_install "${packages[@]}"; fi
+# the packages in mpi/ and petsc/, when asked for (bash tools/setup.sh mpi petsc)
+for extra in "$@"; do
+  case "$extra" in
+    mpi | petsc)
+      command -v mpif90 >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1 ||
+        packages+=(libopenmpi-dev openmpi-bin)
+      if [ "$extra" = petsc ]; then pkg-config --exists PETSc 2>/dev/null || packages+=(petsc-dev); fi ;;
+    *) die "unknown argument '$extra' (known: mpi, petsc)" ;;
+  esac
+done
+if [ "${#packages[@]}" -gt 0 ]; then apt_install $(printf '%s\n' "${packages[@]}" | sort -u); fi
 
 # ---------------------------------------------------------------- fpm
 fpm_version() { "$1" --version 2>/dev/null | sed -n 's/.*Version: *\([0-9][0-9.]*\).*/\1/p' | sed -n 1p || true; }

@@ -1,6 +1,7 @@
 !> Analyses a user can run on their own problems and schemes: the stability
 !> function of a scheme against one real step and its S1 region, observed orders
-!> of convergence, and work-precision sweeps (timed runs against a reference).
+!> of convergence, work-precision sweeps (timed runs against a reference), and what
+!> threads buy an ensemble.
 module taylorode_analysis
    use taylorode_analysis_stability, only: stability_function, step_stability, s1_supremum, s1_contains, &
       s1_axis_crossings
@@ -8,6 +9,7 @@ module taylorode_analysis
    use taylorode_analysis_work_precision, only: timed_run_type, timed_run, reference_run, reference_tolerance, &
       median, work_precision_config_type, work_precision_point_type, work_precision, tolerance_scale, &
       progress_interface
+   use taylorode_analysis_ensemble_timing, only: ensemble_timing_type, time_ensemble
    implicit none
    private
 
@@ -16,5 +18,6 @@ module taylorode_analysis
    public :: timed_run_type, timed_run, reference_run, reference_tolerance, median
    public :: work_precision_config_type, work_precision_point_type, work_precision, tolerance_scale, &
       progress_interface
+   public :: ensemble_timing_type, time_ensemble
 
 end module taylorode_analysis

@@ -6,7 +6,7 @@
 !> the next, so that many short calls cost what one long call costs.
 module taylorode_integrate_integrator
    use taylorode_base_kinds, only: dp, i8
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+   use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
       status_output_error, status_description
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
@@ -15,6 +15,7 @@ module taylorode_integrate_integrator
    use taylorode_integrate_options, only: integrator_options_type, validate_options
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_stepper, only: stepper_type
+   use taylorode_integrate_reduction, only: agree_on_outcome, finite_everywhere
    use taylorode_integrate_step, only: accepted_step_type
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_integrate_events, only: event_functions_type
@@ -164,7 +165,7 @@ contains
          call set_status(stat, status_invalid_argument, "integrate: t0 must be finite")
          return
       end if
-      if (.not. all(ieee_is_finite(u0))) then
+      if (.not. finite_everywhere(problem, u0)) then
          call set_status(stat, status_nonfinite, "integrate: the initial state contains NaN or Inf")
          return
       end if
@@ -201,9 +202,9 @@ contains
       subroutine first_step_size()
          real(dp) :: second_derivative, limit, fallback
          fallback = 1.0e-6_dp*max(1.0_dp, abs(t0))
-         call self%stepper%set_weights(options, u0, u0)
-         size_u = self%stepper%weighted_norm(options, u0)
-         size_f = self%stepper%weighted_norm(options, self%stepper%delta)
+         call self%stepper%set_weights(problem, options, u0, u0)
+         size_u = self%stepper%weighted_norm(problem, options, u0)
+         size_f = self%stepper%weighted_norm(problem, options, self%stepper%delta)
          if (size_u < 1.0e-5_dp .or. size_f < 1.0e-5_dp .or. .not. ieee_is_finite(size_f)) then
             self%h = fallback
          else
@@ -221,7 +222,7 @@ contains
             return
          end if
          self%stepper%u_whole = self%stepper%u_whole - self%stepper%delta
-         second_derivative = self%stepper%weighted_norm(options, self%stepper%u_whole)/self%h
+         second_derivative = self%stepper%weighted_norm(problem, options, self%stepper%u_whole)/self%h
          second_derivative = max(second_derivative, size_f)
          if (second_derivative <= 1.0e-15_dp) then
             limit = max(fallback, 1.0e-3_dp*self%h)
@@ -249,6 +250,8 @@ contains
       else if (.not. all(ieee_is_finite(rhs))) then
          call set_status(stat, status_nonfinite, "integrate: f or g is NaN or Inf at the initial state")
       end if
+      call agree_on_outcome(problem, stat)
+      call describe(stat, "integrate: at the initial state")
    end subroutine evaluate_start
 
    !> Integrate from the current time to t_target (> current time) with the same
@@ -452,7 +455,7 @@ contains
                "before the current time (backward integration is not supported: substitute s = -t)")
             return
          end if
-         if (.not. all(ieee_is_finite(u))) then
+         if (.not. finite_everywhere(problem, u)) then
             call set_status(stat, status_nonfinite, "integrate: the state contains NaN or Inf")
             return
          end if

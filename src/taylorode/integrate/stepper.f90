@@ -27,6 +27,7 @@ module taylorode_integrate_stepper
       controller_predictive, predictive_factor
    use taylorode_integrate_history, only: attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation
+   use taylorode_integrate_reduction, only: reduced_max, reduced_root_mean_square, agree_on_outcome
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -189,9 +190,11 @@ contains
    !> component) becomes rtol_i times the largest |a_j|, |b_j| (at least rtol_i: a state
    !> of zeros is weighed as if of size 1). Weights of your own that are not positive
    !> and finite are raised to that same floor.
-   subroutine set_weights(self, options, a, b)
+   subroutine set_weights(self, problem, options, a, b)
       !> The stepper
       class(stepper_type), intent(inout) :: self
+      !> The problem (the largest |a_j|, |b_j| is taken over every process)
+      class(ode_problem), intent(inout) :: problem
       !> Tolerances
       type(integrator_options_type), intent(in) :: options
       !> The two states
@@ -223,6 +226,7 @@ contains
       do i = 1, size(a)
          scale = max(scale, abs(a(i)), abs(b(i)))
       end do
+      scale = reduced_max(problem, scale)
       do i = 1, size(a)
          if (self%weights(i) > 0.0_dp) cycle
          rtol_i = options%rtol
@@ -231,10 +235,12 @@ contains
       end do
    end subroutine set_weights
 
-   !> Max or RMS norm of v / w.
-   real(dp) function weighted_norm(self, options, v)
+   !> Max or RMS norm of v / w (over every process that holds a part of v).
+   real(dp) function weighted_norm(self, problem, options, v)
       !> The stepper (its weights)
       class(stepper_type), intent(in) :: self
+      !> The problem (its `reduce`)
+      class(ode_problem), intent(inout) :: problem
       !> The norm to use
       type(integrator_options_type), intent(in) :: options
       !> The vector
@@ -245,11 +251,12 @@ contains
          do i = 1, size(v)
             weighted_norm = max(weighted_norm, abs(v(i))/self%weights(i))
          end do
+         weighted_norm = reduced_max(problem, weighted_norm)
       else
          do i = 1, size(v)
             weighted_norm = weighted_norm + (v(i)/self%weights(i))**2
          end do
-         weighted_norm = sqrt(weighted_norm/real(size(v), dp))
+         weighted_norm = reduced_root_mean_square(problem, weighted_norm, size(v))
       end if
    end function weighted_norm
 
@@ -285,7 +292,7 @@ contains
 
       h_next = h
       call set_code(step_stat, status_ok)
-      call self%set_weights(options, u, u)
+      call self%set_weights(problem, options, u, u)
       ! never ask for more than roundoff allows, nor for a zero tolerance
       do i = 1, size(u)
          self%newton%tolerance(i) = max(self%newton_fraction*self%weights(i), &
@@ -318,8 +325,8 @@ contains
          h_next = failure_shrink*h
          return
       end select
-      if (.not. scheme%weights_at_start) call self%set_weights(options, u, self%u_new)
-      err = self%weighted_norm(options, self%delta)
+      if (.not. scheme%weights_at_start) call self%set_weights(problem, options, u, self%u_new)
+      err = self%weighted_norm(problem, options, self%delta)
       ! a rejected step shrinks h by the I controller's factor: the PI and PID terms of
       ! earlier (small) errors could otherwise ask for a larger step than the one
       ! just rejected, again and again
@@ -404,6 +411,7 @@ contains
                if (.not. finite(difference)) call set_code(step_stat, status_nonfinite)
             end if
          end if
+         call agree_on_outcome(problem, step_stat)
          select case (step_stat%code)
          case (status_ok)
             outcome = attempt_accepted

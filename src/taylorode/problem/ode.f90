@@ -10,6 +10,11 @@
 !> g or a Jacobian and returns any finite values: the step is retried with a smaller
 !> step size, and repeated rejections end the integration with
 !> status_evaluation_failed.
+!>
+!> A problem whose state is distributed over several processes (MPI ranks) holds
+!> only its own part of U in the arrays it is given and overrides `reduce`, so that
+!> every norm, finiteness check and step decision of the integrator is taken on the
+!> whole state and every process decides the same.
 module taylorode_problem_ode
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_status, status_invalid_argument
@@ -18,6 +23,12 @@ module taylorode_problem_ode
    private
 
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
+   public :: reduce_sum, reduce_max
+
+   !> `reduce` operation: the sum over the processes
+   integer, parameter :: reduce_sum = 1
+   !> `reduce` operation: the maximum over the processes
+   integer, parameter :: reduce_max = 2
 
    !> Work arrays of the finite-difference Jacobians, kept between calls
    type :: difference_workspace_type
@@ -60,6 +71,13 @@ module taylorode_problem_ode
       procedure :: jac_f_band
       !> dg/dU in LAPACK band storage (default: grouped forward differences of g)
       procedure :: jac_g_band
+      !> J_f v, the Jacobian of f times a vector (default: a forward difference of f along v)
+      procedure :: jvp_f
+      !> J_g v, the Jacobian of g times a vector (default: a forward difference of g along v)
+      procedure :: jvp_g
+      !> Combine values over every process that holds a part of the state (default: the
+      !> whole state is here, nothing to combine)
+      procedure :: reduce
       !> Say, from inside f, g or a Jacobian, that the problem cannot be evaluated at
       !> the point it was given
       procedure, non_overridable :: reject_evaluation
@@ -236,6 +254,56 @@ contains
       call band_differences(self, .false., t, u, band)
    end subroutine jac_g_band
 
+   !> J_f(t, u) v by a forward difference of f along v (two evaluations of f); problems
+   !> with an analytic product override it.
+   subroutine jvp_f(self, t, u, v, jv)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Direction, size of u
+      real(dp), intent(in) :: v(:)
+      !> J_f v, size of u
+      real(dp), intent(out) :: jv(:)
+      call directional_difference(self, .true., t, u, v, jv)
+   end subroutine jvp_f
+
+   !> J_g(t, u) v by a forward difference of g along v (see jvp_f).
+   subroutine jvp_g(self, t, u, v, jv)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Direction, size of u
+      real(dp), intent(in) :: v(:)
+      !> J_g v, size of u
+      real(dp), intent(out) :: jv(:)
+      call directional_difference(self, .false., t, u, v, jv)
+   end subroutine jvp_g
+
+   !> Combine `values` elementwise over every process that holds a part of the state:
+   !> their sum (reduce_sum) or their maximum (reduce_max), the same result on every
+   !> process. The integrator calls it once per weighted norm (maximum: the largest
+   !> weighted component; sum: the sum of squares and the number of components), once
+   !> per attempted step to agree on its outcome (maximum of the status code and of a
+   !> flag for a fatal rejection), once per finiteness check of a state (sum of the
+   !> number of NaN and Inf components) and, with a zero absolute tolerance, once per
+   !> set of weights (maximum of |U_i|); the default jvp_f and jvp_g once per product.
+   !> Every process must call it the same number of times (MPI_Allreduce is collective).
+   !> The default does nothing: the whole state is in this process.
+   subroutine reduce(self, operation, values)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> reduce_sum or reduce_max
+      integer, intent(in) :: operation
+      !> This process's values on entry, the combined values on exit
+      real(dp), intent(inout) :: values(:)
+   end subroutine reduce
+
    !> Work arrays for n unknowns (allocated only when n changes).
    subroutine prepare_workspace(workspace, n)
       type(difference_workspace_type), intent(inout) :: workspace
@@ -341,6 +409,42 @@ contains
          end do
       end associate
    end subroutine dense_differences
+
+   !> (part(t, u + e v) - part(t, u))/e for f (`of_f`) or g, with the increment
+   !> e = sqrt(eps) max(|u|_max, 1)/|v|_max taken from the whole state (through
+   !> `reduce`), so that every process perturbs its part by the same e.
+   subroutine directional_difference(self, of_f, t, u, v, jv)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Of f (true) or of g
+      logical, intent(in) :: of_f
+      !> Time
+      real(dp), intent(in) :: t
+      !> State and direction
+      real(dp), intent(in) :: u(:), v(:)
+      !> The directional difference
+      real(dp), intent(out) :: jv(:)
+      real(dp) :: sizes(2), increment
+      integer :: i
+      sizes = 0.0_dp
+      do i = 1, size(u)
+         sizes(1) = max(sizes(1), abs(u(i)))
+         sizes(2) = max(sizes(2), abs(v(i)))
+      end do
+      call self%reduce(reduce_max, sizes)
+      if (sizes(2) == 0.0_dp) then
+         jv = 0.0_dp
+         return
+      end if
+      increment = sqrt(epsilon(1.0_dp))*max(sizes(1), 1.0_dp)/sizes(2)
+      call prepare_workspace(self%differences, size(u))
+      associate (base => self%differences%base, probe => self%differences%probe)
+         probe = u + increment*v
+         call evaluate_part(self, of_f, t, u, base)
+         call evaluate_part(self, of_f, t, probe, jv)
+         jv = (jv - base)/increment
+      end associate
+   end subroutine directional_difference
 
    !> f(t, state) when `of_f`, else g(t, state).
    subroutine evaluate_part(problem, of_f, t, state, value)
