@@ -1471,9 +1471,9 @@ contains
       call say("bench: rtol = atol = tol (e5: atol 1.7e-24), RMS norm, library defaults otherwise; CPU per run "// &
          "(mean over repeats until "//format_fixed(request%min_time, 2)//" s); per step: evaluations of F = f + g, "// &
          "Jacobians, LU factorizations, linear solves")
-      call say(pad("problem", -10)//pad("scheme", -10)//pad("tol", 7)//"  "//pad("status", -8)//pad("steps", 10)// &
-         pad("rej", 7)//pad("F/step", 8)//pad("J/step", 8)//pad("LU/step", 8)//pad("sol/step", 9)// &
-         pad("CPU s", 10)//pad("us/step", 9)//pad("err_end", 10)//pad("err_grid", 10))
+      call say(pad("problem", -10)//pad("scheme", -10)//pad("tol", 7)//"  "//pad("status", -8)//pad("steps", 11)// &
+         pad("rej", 10)//pad("F/step", 8)//pad("J/step", 8)//pad("LU/step", 8)//pad("sol/step", 9)// &
+         pad("CPU s", 10)//pad("us/step", 12)//pad("err_end", 10)//pad("err_grid", 10))
       do p = 1, size(request%problems)
          call make_bench_problem(trim(request%problems(p)), bench, stat)
          if (stat%code /= status_ok) return
@@ -1679,12 +1679,12 @@ contains
       steps = real(max(stats%accepted_steps, 1_i8), dp)
       associate (work => stats%work)
          call say(pad(bench%name, -10)//pad(scheme_name, -10)//pad(tol_text, 7)//"  "//pad(status_text, -8)// &
-            pad(format_count(stats%accepted_steps), 10)//pad(format_count(stats%rejected_steps()), 7)// &
+            pad(format_count(stats%accepted_steps), 11)//pad(format_count(stats%rejected_steps()), 10)// &
             pad(format_fixed(real(max(work%f_evaluations, work%g_evaluations), dp)/steps, 2), 8)// &
             pad(format_fixed(real(max(work%jac_f_evaluations, work%jac_g_evaluations), dp)/steps, 2), 8)// &
             pad(format_fixed(real(work%lu_factorizations, dp)/steps, 2), 8)// &
             pad(format_fixed(real(work%linear_solves, dp)/steps, 2), 9)// &
-            pad(format_real(cpu/reps, 3), 10)//pad(format_fixed(1.0e6_dp*cpu/reps/steps, 3), 9)// &
+            pad(format_real(cpu/reps, 3), 10)//pad(format_fixed(1.0e6_dp*cpu/reps/steps, 3), 12)// &
             pad(error_text(err_end), 10)//pad(choose(size(bench%t_out) > 1, error_text(err_grid), "-"), 10))
          if (rows == size(csv_rows)) csv_rows = [csv_rows, csv_rows]
          rows = rows + 1

@@ -307,7 +307,7 @@ contains
          call check(error, index(table(k)%text, ",ok,") > 0, "run status: "//table(k)%text)
          if (allocated(error)) return
       end do
-      call check(error, has_line(run%stdout, "vdp-paper i-t-2       paper  ok         125,748"), &
+      call check(error, has_line(run%stdout, "vdp-paper i-t-2       paper  ok          125,748"), &
          "the paper's run keeps its 125,748 steps")
       if (allocated(error)) return
       do k = 4, size(table)
