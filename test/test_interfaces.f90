@@ -188,7 +188,7 @@ contains
       call numbers_after(run%stdout, "one call:   y =", one_call(1:1), found)
       call numbers_after(run%stdout, "z =", one_call(2:2), found)
       call check(error, found .and. maxval(abs(one_call - u)) <= 1.0e-14_dp*maxval(abs(u)), &
-         "C and Fortran differ: "//format_real(maxval(abs(one_call - u)), 3))
+         "C and Fortran differ: "//format_real(maxval(abs(one_call - u)), 3)//" Fortran y = "//format_real(u(1), 16))
       if (allocated(error)) return
       call numbers_after(run%stdout, "100 calls:  y =", continued(1:1), found)
       call check(error, found .and. abs(continued(1) - u(1)) < 1.0e-6_dp, "100 continued calls differ")
