@@ -133,7 +133,8 @@ contains
          new_unittest("no-executable-stack", test_no_executable_stack), &
          new_unittest("scheme-prepared-by-init-checked", test_scheme_prepared_checked), &
          new_unittest("c-options-checked", test_c_options_checked), &
-         new_unittest("legacy-bandwidths-checked", test_legacy_bandwidths_checked) &
+         new_unittest("legacy-bandwidths-checked", test_legacy_bandwidths_checked), &
+         new_unittest("command-line-mistakes-found-first", test_mistakes_found_first) &
          ]
    end subroutine collect_robustness
 
@@ -994,5 +995,28 @@ contains
       real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
       irtrn = 0
    end subroutine legacy_no_output
+
+
+   !> Options a command does not use, options that contradict each other, a default
+   !> final time that overflows and an output name the file system refuses: exit status
+   !> 2 before any work.
+   subroutine test_mistakes_found_first(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call expect_usage_error("stability --grid 3 --repeats 3", "does not apply")
+      call expect_usage_error("vdp --mu 1 --tend 1 --dense 2 --repeats 2", "does not apply")
+      call expect_usage_error("table --full --budget 10", "--full")
+      call expect_usage_error("vdp --mu 1e308 --dense 2 --budget 100", "--tend")
+      call expect_usage_error("vdp --mu 1 --tend 1 --dense 2 --history "//scratch//"/"//repeat("h", 300)//".csv", &
+         "cannot write")
+   contains
+      subroutine expect_usage_error(arguments, words)
+         character(len=*), intent(in) :: arguments, words
+         if (allocated(error)) return
+         call run_app(arguments, run)
+         call check(error, run%exit_status == 2 .and. has_line(run%stderr, words) .and. size(run%stdout) == 0, &
+            "taylorode "//arguments(:min(len(arguments), 80)))
+      end subroutine expect_usage_error
+   end subroutine test_mistakes_found_first
 
 end module test_robustness
