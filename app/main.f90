@@ -697,7 +697,7 @@ contains
       type(status_type), intent(out) :: stat
       if (request%command /= "vdp") return
       ! the default final time is 3 mu
-      if (request%t_end <= 0.0_dp .and. .not. ieee_is_finite(3.0_dp*request%mu)) then
+      if (request%t_end <= 0.0_dp .and. request%mu > huge(1.0_dp)/3.0_dp) then
          call set_status(stat, status_invalid_argument, "vdp: the final time 3 mu is too large; give --tend")
          return
       end if

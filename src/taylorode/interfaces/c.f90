@@ -8,6 +8,7 @@
 module taylorode_interfaces_c
    use, intrinsic :: iso_c_binding, only: c_int, c_long, c_double, c_char, c_ptr, c_funptr, c_null_ptr, &
       c_null_funptr, c_null_char, c_loc, c_f_pointer, c_f_procpointer, c_associated
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
@@ -288,7 +289,8 @@ contains
          real(dp), intent(in) :: largest
          real(dp) :: smallest
          smallest = merge(0.0_dp, -largest, largest <= 2.0_dp)
-         whole_number = value >= smallest .and. value <= largest
+         whole_number = ieee_is_finite(value)   ! before any comparison: NaN must not reach one
+         if (whole_number) whole_number = value >= smallest .and. value <= largest
          if (whole_number) whole_number = value == aint(value)
          if (.not. whole_number) call set_status(stat, status_invalid_argument, "taylorode_set_option: "// &
             option//" must be a whole number in its range")
