@@ -349,6 +349,10 @@ contains
          i = i + 1
          if (.not. parse_option(request, arg, value, stat)) return
       end do
+      if (request%full .and. request%budget /= 0) then
+         call set_status(stat, status_invalid_argument, "--full runs without a budget: drop --budget or --full")
+         return
+      end if
       if (request%budget == 0) request%budget = merge(default_vdp_budget, default_budget, request%command == "vdp")
       request%tols = [(request%tol_high/10.0_dp**i, i = 0, nint(log10(request%tol_high/request%tol_low)))]
       stat%code = status_ok
@@ -459,6 +463,7 @@ contains
          if (.not. allowed(request, option, ["table", "sweep", "bench", "vdp  "], stat)) return
          if (.not. read_count(option, value, 1_i8, max_budget, "steps", request%budget, stat)) return
       case ("--repeats")
+         if (.not. allowed(request, option, ["table   ", "sweep   ", "ensemble"], stat)) return
          if (.not. read_count(option, value, 1_i8, int(max_repeats, i8), "runs", count, stat)) return
          request%repeats = int(count)
       case ("--problem")
@@ -691,6 +696,11 @@ contains
       type(request_type), intent(in) :: request
       type(status_type), intent(out) :: stat
       if (request%command /= "vdp") return
+      ! the default final time is 3 mu
+      if (request%t_end <= 0.0_dp .and. request%mu > huge(1.0_dp)/3.0_dp) then
+         call set_status(stat, status_invalid_argument, "vdp: the final time 3 mu is too large; give --tend")
+         return
+      end if
       call validate_options(request%options, 2, stat)
       if (stat%code /= status_ok) stat%message = "vdp: "//stat%message
    end subroutine check_request
@@ -863,6 +873,7 @@ contains
       character(len=*), intent(in) :: path
       logical, intent(in) :: force
       type(status_type), intent(inout) :: stat
+      type(text_file_type) :: file
       logical :: exists
       if (is_directory(path)) then
          call set_status(stat, status_invalid_argument, path//" is a directory")
@@ -876,7 +887,15 @@ contains
       if (.not. is_writable_directory(parent_directory(path))) then
          call set_status(stat, status_invalid_argument, "cannot write "//path//": "//parent_directory(path)// &
             " is not a writable directory")
+         return
       end if
+      ! the file itself can be created there (a name too long, a file system that refuses it)
+      call file%open(path, stat)
+      if (stat%code /= status_ok) then
+         stat%code = status_invalid_argument
+         return
+      end if
+      call file%discard()
    end subroutine check_target
 
    !> Start a CSV table; returns its index.

@@ -8,11 +8,13 @@ module test_robustness
       integrator_options_type, integration_stats_type, step_history_type, write_history_csv, status_ok, &
       status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
       status_evaluation_failed, status_newton_not_converged, status_newton_diverged, matrix_structure_type, &
-      band_structure
+      band_structure, integrator_type
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
    use taylorode_base_strings, only: format_real
+   use taylorode_interfaces_legacy, only: legacy_solve
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
-   use, intrinsic :: iso_c_binding, only: c_long_long
+   use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
+      c_associated
    !$ use omp_lib, only: omp_get_max_threads
    implicit none
    private
@@ -64,6 +66,37 @@ module test_robustness
       procedure :: jacobian_structure => declared_structure
    end type declared_band_type
 
+   interface
+      !> The C interface, called as C would (include/taylorode.h)
+      function c_create(scheme, n, status) result(handle) bind(c, name="taylorode_create")
+         import :: c_ptr, c_char, c_int
+         character(kind=c_char), intent(in) :: scheme(*)
+         integer(c_int), value :: n
+         integer(c_int), intent(out) :: status
+         type(c_ptr) :: handle
+      end function c_create
+      subroutine c_free(handle) bind(c, name="taylorode_free")
+         import :: c_ptr
+         type(c_ptr), value :: handle
+      end subroutine c_free
+      integer(c_int) function c_set_option(handle, name, value) bind(c, name="taylorode_set_option")
+         import :: c_ptr, c_char, c_int, c_double
+         type(c_ptr), value :: handle
+         character(kind=c_char), intent(in) :: name(*)
+         real(c_double), value :: value
+      end function c_set_option
+      integer(c_int) function c_set_bandwidths(handle, lower, upper) bind(c, name="taylorode_set_bandwidths")
+         import :: c_ptr, c_int
+         type(c_ptr), value :: handle
+         integer(c_int), value :: lower, upper
+      end function c_set_bandwidths
+      function c_message(handle) result(text) bind(c, name="taylorode_message")
+         import :: c_ptr
+         type(c_ptr), value :: handle
+         type(c_ptr) :: text
+      end function c_message
+   end interface
+
    !> Van der Pol without Jacobians (forward differences), mu = 10
    type, extends(ode_problem_fd) :: vdp_differences_type
    contains
@@ -97,7 +130,11 @@ contains
          new_unittest("options-cross-checked-first", test_options_cross_checked), &
          new_unittest("version-and-help", test_version_and_help), &
          new_unittest("test-driver-lists-suites", test_driver_lists), &
-         new_unittest("no-executable-stack", test_no_executable_stack) &
+         new_unittest("no-executable-stack", test_no_executable_stack), &
+         new_unittest("scheme-prepared-by-init-checked", test_scheme_prepared_checked), &
+         new_unittest("c-options-checked", test_c_options_checked), &
+         new_unittest("legacy-bandwidths-checked", test_legacy_bandwidths_checked), &
+         new_unittest("command-line-mistakes-found-first", test_mistakes_found_first) &
          ]
    end subroutine collect_robustness
 
@@ -830,5 +867,156 @@ contains
       real(dp), intent(out) :: dudt(:)
       dudt = [0.0_dp, 10.0_dp*(1.0_dp - u(1)**2)*u(2)]
    end subroutine vdp_g
+
+
+   ! ------------------------------------------------------------ second campaign
+
+   !> advance_to with another object of the scheme init prepared (or the same one
+   !> prepared since for another size) is an error, not a crash in unprepared work arrays.
+   subroutine test_scheme_prepared_checked(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      type(poisoned_after_type) :: decay
+      class(scheme_type), allocatable :: scheme, fresh
+      type(integrator_type) :: integrator
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), wider(4)
+      problem = new_van_der_pol(10.0_dp)
+      u = problem%u0
+      call new_scheme("radau5", scheme, stat)
+      call integrator%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+      call check(error, stat%code == status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call new_scheme("radau5", fresh, stat)
+      call integrator%advance_to(problem, fresh, 1.0_dp, u, stat)
+      call check(error, stat%code == status_invalid_argument, "a fresh scheme: "//stat_message(stat))
+      if (allocated(error)) return
+      wider = 1.0_dp
+      call integrate(decay, scheme, 0.0_dp, 0.01_dp, wider, integrator_options_type(), &
+         stats, stat)
+      call integrator%advance_to(problem, scheme, 1.0_dp, u, stat)
+      call check(error, stat%code == status_invalid_argument, "a scheme prepared since for 4 unknowns: "// &
+         stat_message(stat))
+   end subroutine test_scheme_prepared_checked
+
+   !> The C interface checks whole-number options and bandwidths itself (no float to
+   !> integer conversion out of range, no allocation of a band wider than the matrix)
+   !> and every failing call leaves a message.
+   subroutine test_c_options_checked(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(c_ptr) :: ode
+      integer(c_int) :: status
+      real(dp) :: nan
+      nan = ieee_value(1.0_dp, ieee_quiet_nan)
+      ode = c_create("i-t-2"//c_null_char, 2_c_int, status)
+      call check(error, status == status_ok .and. c_associated(ode), "taylorode_create")
+      if (allocated(error)) return
+      call expect_invalid(c_set_option(ode, "controller"//c_null_char, nan), "controller NaN")
+      call expect_invalid(c_set_option(ode, "norm"//c_null_char, 1.0e300_dp), "norm 1e300")
+      call expect_invalid(c_set_option(ode, "max_steps"//c_null_char, 1.0e30_dp), "max_steps 1e30")
+      call expect_invalid(c_set_option(ode, "max_newton_iterations"//c_null_char, 2.5_dp), "2.5 iterations")
+      call expect_invalid(c_set_option(ode, "no_such_option"//c_null_char, 1.0_dp), "an unknown option")
+      call expect_invalid(c_set_bandwidths(ode, 2000000000_c_int, 2000000000_c_int), "bandwidths 2e9")
+      call expect_invalid(c_set_bandwidths(ode, 0_c_int, 2_c_int), "upper bandwidth n")
+      if (allocated(error)) return
+      status = c_set_option(ode, "controller"//c_null_char, 1.0_dp)
+      call check(error, status == status_ok .and. len(message_of(ode)) == 0, "controller 1 and its message cleared")
+      call c_free(ode)
+   contains
+      subroutine expect_invalid(code, what)
+         integer(c_int), value :: code
+         character(len=*), intent(in) :: what
+         if (allocated(error)) return
+         call check(error, code == status_invalid_argument .and. len(message_of(ode)) > 0, what//": "// &
+            message_of(ode))
+      end subroutine expect_invalid
+   end subroutine test_c_options_checked
+
+   !> The text taylorode_message returns.
+   function message_of(ode) result(text)
+      type(c_ptr), intent(in) :: ode
+      character(len=:), allocatable :: text
+      character(kind=c_char), pointer :: chars(:)
+      integer :: k
+      call c_f_pointer(c_message(ode), chars, [512])
+      text = ""
+      do k = 1, size(chars)
+         if (chars(k) == c_null_char) exit
+         text = text//chars(k)
+      end do
+   end function message_of
+
+   !> TAYLORODE with a band (MLJAC < N) needs both bandwidths in [0, N - 1]: IDID = -1
+   !> for a huge MUJAC or a negative MLJAC (no allocation of the band, no crash).
+   subroutine test_legacy_bandwidths_checked(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: cases(2, 4) = reshape([0, huge(1), 1, 1000000, -1, 0, 1, 1], [2, 4])
+      integer, parameter :: expected(4) = [-1, -1, -1, 1]
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(20), rpar(1)
+      integer :: iwork(20), ipar(1), idid, k
+      do k = 1, size(expected)
+         x = 0.0_dp
+         y = [2.0_dp, 0.0_dp]
+         h = 0.0_dp
+         rtol = 1.0e-6_dp
+         atol = 1.0e-6_dp
+         work = 0.0_dp
+         iwork = 0
+         call legacy_solve("radau5", 2, legacy_vdp, legacy_vdp, .false., x, y, 1.0_dp, h, rtol, atol, 0, &
+            legacy_no_jacobian, 0, legacy_no_jacobian, 0, cases(1, k), cases(2, k), legacy_no_output, 0, work, 20, &
+            iwork, 20, rpar, ipar, idid)
+         call check(error, idid == expected(k), "MLJAC, MUJAC = "//format_real(real(cases(1, k), dp))//", "// &
+            format_real(real(cases(2, k), dp)))
+         if (allocated(error)) return
+      end do
+   end subroutine test_legacy_bandwidths_checked
+
+   !> Van der Pol (mu = 10) as FCN(N, X, Y, F, RPAR, IPAR).
+   subroutine legacy_vdp(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f(1) = y(2)
+      f(2) = 10.0_dp*(1.0_dp - y(1)**2)*y(2) - y(1)
+   end subroutine legacy_vdp
+
+   !> A JAC that is never called (IJAC = 0).
+   subroutine legacy_no_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy = 0.0_dp
+   end subroutine legacy_no_jacobian
+
+   !> A SOLOUT that is never called (IOUT = 0).
+   subroutine legacy_no_output(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      irtrn = 0
+   end subroutine legacy_no_output
+
+
+   !> Options a command does not use, options that contradict each other, a default
+   !> final time that overflows and an output name the file system refuses: exit status
+   !> 2 before any work.
+   subroutine test_mistakes_found_first(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      call expect_usage_error("stability --grid 3 --repeats 3", "does not apply")
+      call expect_usage_error("vdp --mu 1 --tend 1 --dense 2 --repeats 2", "does not apply")
+      call expect_usage_error("table --full --budget 10", "--full")
+      call expect_usage_error("vdp --mu 1e308 --dense 2 --budget 100", "--tend")
+      call expect_usage_error("vdp --mu 1 --tend 1 --dense 2 --history "//scratch//"/"//repeat("h", 300)//".csv", &
+         "cannot write")
+   contains
+      subroutine expect_usage_error(arguments, words)
+         character(len=*), intent(in) :: arguments, words
+         if (allocated(error)) return
+         call run_app(arguments, run)
+         call check(error, run%exit_status == 2 .and. has_line(run%stderr, words) .and. size(run%stdout) == 0, &
+            "taylorode "//arguments(:min(len(arguments), 80)))
+      end subroutine expect_usage_error
+   end subroutine test_mistakes_found_first
 
 end module test_robustness

@@ -446,7 +446,8 @@ contains
             call set_status(stat, status_size_mismatch, "integrate: the state has a different size than at init")
             return
          end if
-         if (scheme%name /= self%scheme_name) then
+         ! another object of the same scheme, or the same one prepared since for another size
+         if (scheme%name /= self%scheme_name .or. scheme%n /= self%n) then
             call set_status(stat, status_invalid_argument, "integrate: pass the scheme init prepared")
             return
          end if

@@ -8,6 +8,7 @@
 module taylorode_interfaces_c
    use, intrinsic :: iso_c_binding, only: c_int, c_long, c_double, c_char, c_ptr, c_funptr, c_null_ptr, &
       c_null_funptr, c_null_char, c_loc, c_f_pointer, c_f_procpointer, c_associated
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
@@ -180,10 +181,16 @@ contains
       type(c_ptr), value :: handle
       integer(c_int), value :: lower, upper
       type(session_type), pointer :: session
+      type(status_type) :: stat
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
-      if (lower < 0 .or. upper < 0) return
+      if (lower < 0 .or. upper < 0 .or. lower > session%n - 1 .or. upper > session%n - 1) then
+         call set_status(stat, status_invalid_argument, "taylorode_set_bandwidths: lower and upper must lie "// &
+            "in [0, n - 1]")
+         code = remember(session, stat)
+         return
+      end if
       session%problem%lower = lower
       session%problem%upper = upper
       if (allocated(session%problem%band_work)) deallocate (session%problem%band_work)
@@ -232,11 +239,14 @@ contains
       character(kind=c_char), intent(in) :: name(*)
       real(c_double), value :: value
       type(session_type), pointer :: session
+      type(status_type) :: stat
+      character(len=:), allocatable :: option
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
+      option = from_c_string(name)
       associate (options => session%options)
-         select case (from_c_string(name))
+         select case (option)
          case ("h0"); options%h0 = value
          case ("h_min"); options%h_min = value
          case ("h_max"); options%h_max = value
@@ -245,28 +255,46 @@ contains
          case ("max_growth"); options%max_growth = value
          case ("min_shrink"); options%min_shrink = value
          case ("newton_fraction"); options%newton_fraction = value
-         case ("max_steps"); options%max_steps = int(value, i8)
-         case ("max_newton_iterations"); options%max_newton_iterations = int(value)
-         case ("max_failures"); options%max_failures = int(value)
-         case ("reuse_newton_matrix"); options%reuse_newton_matrix = value /= 0.0_dp
+         case ("max_steps")
+            if (whole_number(value, 1.0e18_dp)) options%max_steps = int(value, i8)
+         case ("max_newton_iterations")
+            if (whole_number(value, real(huge(1), dp))) options%max_newton_iterations = int(value)
+         case ("max_failures")
+            if (whole_number(value, real(huge(1), dp))) options%max_failures = int(value)
+         case ("reuse_newton_matrix")
+            if (whole_number(value, 1.0_dp)) options%reuse_newton_matrix = value /= 0.0_dp
          case ("controller")
-            select case (nint(value))
-            case (0); options%controller = controller_i
-            case (1); options%controller = controller_pi
-            case (2); options%controller = controller_pid
-            case default; return
-            end select
+            if (whole_number(value, 2.0_dp)) then
+               select case (nint(value))
+               case (0); options%controller = controller_i
+               case (1); options%controller = controller_pi
+               case default; options%controller = controller_pid
+               end select
+            end if
          case ("norm")
-            select case (nint(value))
-            case (0); options%norm = norm_max
-            case (1); options%norm = norm_rms
-            case default; return
-            end select
+            if (whole_number(value, 1.0_dp)) options%norm = merge(norm_rms, norm_max, value == 1.0_dp)
          case default
-            return
+            call set_status(stat, status_invalid_argument, 'taylorode_set_option: unknown option "'//option//'"')
          end select
       end associate
-      code = status_ok
+      code = remember(session, stat)
+
+   contains
+
+      !> Whether value is a whole number that fits the option (its range starts at 0 for
+      !> the choices, at any negative number for the counts, which the integrator checks);
+      !> stat says why not.
+      logical function whole_number(value, largest)
+         real(c_double), intent(in) :: value
+         real(dp), intent(in) :: largest
+         real(dp) :: smallest
+         smallest = merge(0.0_dp, -largest, largest <= 2.0_dp)
+         whole_number = ieee_is_finite(value)   ! before any comparison: NaN must not reach one
+         if (whole_number) whole_number = value >= smallest .and. value <= largest
+         if (whole_number) whole_number = value == aint(value)
+         if (.not. whole_number) call set_status(stat, status_invalid_argument, "taylorode_set_option: "// &
+            option//" must be a whole number in its range")
+      end function whole_number
    end function taylorode_set_option
 
    !> `taylorode_init`: start at (t0, u0) with the current settings.

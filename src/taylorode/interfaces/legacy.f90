@@ -163,7 +163,7 @@ contains
       procedure(jac_interface) :: jac_f, jac_g
       !> Whether jac_f and jac_g are given (1) or differences are used (0)
       integer, intent(in) :: ijac_f, ijac_g
-      !> Lower and upper bandwidths of the Jacobians (mljac >= n: dense)
+      !> Lower and upper bandwidths of the Jacobians (mljac >= n: dense; else both in [0, n - 1])
       integer, intent(in) :: mljac, mujac
       !> Called after every accepted step when iout = 1
       procedure(solout_interface) :: solout
@@ -192,6 +192,8 @@ contains
       idid = -1
       if (n < 1 .or. lwork < 20 .or. liwork < 20 .or. (itol /= 0 .and. itol /= 1) .or. .not. (xend > x)) return
       if (iout /= 0 .and. iout /= 1) return
+      ! banded (mljac < n): both bandwidths within the matrix
+      if (mljac < n .and. (mljac < 0 .or. mujac < 0 .or. mujac > n - 1)) return
       call new_scheme(scheme_name, scheme, stat)
       if (stat%code /= status_ok) return
 
@@ -504,7 +506,7 @@ subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac,
    procedure(jac_interface) :: jac
    !> 1: jac is given, 0: forward differences
    integer, intent(in) :: ijac
-   !> Lower and upper bandwidths of the Jacobian (mljac >= n: dense)
+   !> Lower and upper bandwidths of the Jacobian (mljac >= n: dense; else both in [0, n - 1])
    integer, intent(in) :: mljac, mujac
    !> The mass matrix routine of RADAU5's list (never called)
    procedure() :: mas
@@ -566,7 +568,7 @@ subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, ito
    procedure(jac_interface) :: jacf, jacg
    !> 1: the Jacobian is given, 0: forward differences
    integer, intent(in) :: ijacf, ijacg
-   !> Lower and upper bandwidths of both Jacobians (mljac >= n: dense)
+   !> Lower and upper bandwidths of both Jacobians (mljac >= n: dense; else both in [0, n - 1])
    integer, intent(in) :: mljac, mujac
    !> Called after every accepted step when iout = 1
    procedure(solout_interface) :: solout
