@@ -128,6 +128,12 @@ else
   [ -n "$compiled" ] || complain "the dependent project compiled no taylorode object (cannot check)"
 fi
 
+# an installation holds the library's modules only (none of the examples' or the app's)
+if [ -d build/install/include ]; then
+  foreign="$(find build/install/include -name '*.mod' ! -name 'taylorode*.mod' -printf '%f ')"
+  [ -z "$foreign" ] || complain "make install ships modules that are not the library's: $foreign"
+fi
+
 if [ "$violations" -eq 0 ]; then
   echo "architecture: ok"
 else
