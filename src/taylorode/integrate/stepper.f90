@@ -148,7 +148,7 @@ contains
          self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
          self%whole_newton_fraction = 0.1_dp/self%richardson
       end if
-      self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit
+      self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit .and. scheme%takes_newton_guess
       self%extrapolation_ready = .false.
       self%q = options%q
       if (self%q == 0.0_dp) then

@@ -187,6 +187,7 @@ contains
       self%predictive_control = .true.
       self%estimates_own_error = .true.
       self%weights_at_start = .true.
+      self%takes_newton_guess = .false.
       self%dense_degree = 3
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"

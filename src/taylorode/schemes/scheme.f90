@@ -65,6 +65,9 @@ module taylorode_schemes_scheme
       !> Whether the error test weighs with the state at the start of the step alone,
       !> atol + rtol |U^n| (RADAU5's SCAL), instead of atol + rtol max(|U^n|, |U^{n+1}|)
       logical :: weights_at_start = .false.
+      !> Whether its Newton iteration starts from a guess the integrator gives (the
+      !> extrapolated last step); radau5 starts from its own collocation polynomial
+      logical :: takes_newton_guess = .true.
       !> Degree of the continuous extension the scheme supplies through `dense_output`
       !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
       integer :: dense_degree = 0
