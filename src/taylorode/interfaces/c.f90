@@ -12,7 +12,7 @@ module taylorode_interfaces_c
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
-   use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
+   use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
@@ -60,8 +60,8 @@ module taylorode_interfaces_c
       type(c_funptr) :: f_callback = c_null_funptr, g_callback = c_null_funptr, jac_f_callback = c_null_funptr, &
          jac_g_callback = c_null_funptr
       type(c_ptr) :: user_data = c_null_ptr
-      !> Bandwidths (lower < 0: dense)
-      integer :: lower = -1, upper = -1
+      !> Structure of the Jacobians the user gives (dense unless bandwidths are set)
+      type(matrix_structure_type) :: structure
       !> Band Jacobian in contiguous storage for the callback
       real(dp), allocatable :: band_work(:, :)
    contains
@@ -191,8 +191,7 @@ contains
          code = remember(session, stat)
          return
       end if
-      session%problem%lower = lower
-      session%problem%upper = upper
+      session%problem%structure = band_structure(lower, upper)
       if (allocated(session%problem%band_work)) deallocate (session%problem%band_work)
       allocate (session%problem%band_work(lower + upper + 1, session%n))
       code = status_ok
@@ -451,11 +450,7 @@ contains
       class(c_problem_type), intent(in) :: self
       integer, intent(in) :: n
       type(matrix_structure_type) :: structure
-      if (self%lower < 0) then
-         structure = dense_structure()
-      else
-         structure = band_structure(self%lower, self%upper)
-      end if
+      structure = self%structure
    end function c_structure
 
    subroutine c_jac_f_band(self, t, u, band)

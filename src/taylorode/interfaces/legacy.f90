@@ -31,7 +31,7 @@ module taylorode_interfaces_legacy
       status_size_mismatch, status_nonfinite, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged, status_step_underflow, status_max_steps, status_unknown_scheme, &
       status_evaluation_failed
-   use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
+   use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
@@ -101,8 +101,8 @@ module taylorode_interfaces_legacy
       procedure(jac_interface), pointer, nopass :: jac_f_user => null(), jac_g_user => null()
       !> Which parts and Jacobians the user gave
       logical :: has_f = .false., has_jac_f = .false., has_jac_g = .false.
-      !> Bandwidths (lower < 0: dense)
-      integer :: lower = -1, upper = -1
+      !> Structure of the Jacobians the user gives (dense unless bandwidths are set)
+      type(matrix_structure_type) :: structure
       !> The user's RPAR and IPAR, passed through
       type(c_ptr) :: rpar = c_null_ptr, ipar = c_null_ptr
       !> Work arrays: the state (a copy, as F77 routines may write it) and the Jacobian
@@ -204,15 +204,12 @@ contains
       problem%has_jac_g = ijac_g == 1
       if (problem%has_jac_f) problem%jac_f_user => jac_f
       if (problem%has_jac_g) problem%jac_g_user => jac_g
-      if (mljac < n) then
-         problem%lower = mljac
-         problem%upper = mujac
-      end if
+      if (mljac < n) problem%structure = band_structure(mljac, mujac)
       problem%rpar = c_loc(rpar(1))
       problem%ipar = c_loc(ipar(1))
       allocate (problem%x_state(n))
-      if (problem%lower >= 0) then
-         allocate (problem%jac_work(problem%lower + problem%upper + 1, n))
+      if (problem%structure%storage == storage_band) then
+         allocate (problem%jac_work(problem%structure%lower + problem%structure%upper + 1, n))
       else
          allocate (problem%jac_work(n, n))
       end if
@@ -439,11 +436,7 @@ contains
       class(legacy_problem_type), intent(in) :: self
       integer, intent(in) :: n
       type(matrix_structure_type) :: structure
-      if (self%lower < 0) then
-         structure = dense_structure()
-      else
-         structure = band_structure(self%lower, self%upper)
-      end if
+      structure = self%structure
    end function legacy_structure
 
    !> Band df/dU: the user's JACF in RADAU5's band layout (the same as LAPACK's), zero
