@@ -367,7 +367,7 @@ contains
       call run(status_evaluation_failed, .true., stats, stat)
       call check(error, stat%code == status_evaluation_failed .and. &
          index(stat_message(stat), "stopped the integration") > 0 .and. stats%rejected_evaluation == 1 .and. &
-         stats%accepted_steps >= 1, &
+         stats%accepted_steps == 1 .and. stats%rejected_steps() == 1, &
          "a fatal rejection on another process did not stop this one: "//stat_message(stat)//"; "// &
          format_integer(stats%accepted_steps)//" accepted, "//format_integer(stats%rejected_steps())//" rejected, "// &
          format_integer(stats%rejected_evaluation)//" evaluation")
@@ -382,8 +382,9 @@ contains
          real(dp) :: u(2)
          problem%van_der_pol_type = new_van_der_pol(10.0_dp)
          problem%remote = remote_outcome
-         ! the first agreements are at the initial state, then each attempt agrees on each
-         ! of its three steps (step doubling): the eighth is in the second or third attempt
+         ! two agreements at the start (F at U0 and at the first step size's Euler step),
+         ! then three per attempt (step doubling's steps): the eighth is the second
+         ! attempt's last, after one accepted step
          problem%at_attempt = 8
          problem%code = code
          problem%fatal_remote = fatal
