@@ -34,7 +34,7 @@ contains
       real(dp), allocatable :: a(:, :), lu(:, :), ab(:, :), band(:, :), original(:, :), b(:), x(:), y(:), &
          inverse(:)
       integer, allocatable :: pivots(:), band_pivots(:)
-      integer :: n, kl, ku, i, j, info, info_lapack, k
+      integer :: n, kl, ku, i, j, info, info_lapack, k, width
       integer(i8) :: state
       character(len=:), allocatable :: label
 
@@ -95,7 +95,25 @@ contains
                   call band_lu_solve(band, kl, ku, pivots, x, info_lapack)
                   y = b
                   call narrow_band_lu_solve(ab, kl, ku, band_pivots, y)
-                  call check(error, all(x == y), label//": solution differs from dgbtrs")
+                  call check(error, maxval(abs(x - y)) <= 1.0e-12_dp*maxval(abs(x)), &
+                     label//": solution differs from dgbtrs")
+                  if (allocated(error)) return
+                  ! U holds entries on no more superdiagonals than it says
+                  band = original
+                  call narrow_band_lu_factor(band, kl, ku, band_pivots, info, upper_width=width)
+                  call check(error, width >= min(ku, n - 1) .and. width <= min(kl + ku, n - 1) .and. &
+                     all(band(1:kl + ku - width, :) == 0.0_dp), label//": upper width")
+                  if (allocated(error)) return
+                  y = b
+                  call narrow_band_lu_solve(ab, kl, ku, band_pivots, y, upper_width=width)
+                  call check(error, maxval(abs(x - y)) <= 1.0e-12_dp*maxval(abs(x)), &
+                     label//": solution over the upper width")
+                  if (allocated(error)) return
+                  ! without row interchanges (a dominant diagonal) U keeps the upper bandwidth
+                  band = original
+                  band(kl + ku + 1, :) = band(kl + ku + 1, :) + real(2*(kl + ku + 1), dp)
+                  call narrow_band_lu_factor(band, kl, ku, band_pivots, info, upper_width=width)
+                  call check(error, width, min(ku, n - 1), label//": upper width without interchanges")
                   if (allocated(error)) return
                   band = original
                   allocate (inverse(n))

@@ -138,7 +138,7 @@ contains
    !> dgbtf2 (which dgbtrf runs for bands up to its block size) operation for
    !> operation, without a BLAS call per column. Storage as `band_lu_factor`; the
    !> caller checks the sizes. info = j > 0: U(j, j) is exactly zero.
-   pure subroutine narrow_band_lu_factor(ab, kl, ku, ipiv, info, inverse_diagonal)
+   pure subroutine narrow_band_lu_factor(ab, kl, ku, ipiv, info, inverse_diagonal, upper_width)
       !> Band matrix on entry, its LU factors on exit
       real(dp), contiguous, intent(inout) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -150,7 +150,10 @@ contains
       !> 1/U(j, j), for solves that multiply instead of dividing (the back substitution
       !> chains one division per row)
       real(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
-      integer :: n, kv, i, j, jp, ju, km, c
+      !> Superdiagonals of U that hold entries: ku without row interchanges, at most
+      !> kl + ku (solves skip the others, which stay zero)
+      integer, intent(out), optional :: upper_width
+      integer :: n, kv, i, j, jp, ju, km, c, width
       real(dp) :: largest, swap, reciprocal_pivot, factor
 
       n = size(ab, 2)
@@ -163,6 +166,7 @@ contains
          end do
       end do
       ju = 1
+      width = min(ku, n - 1)
       do j = 1, n
          if (j + kv <= n) ab(1:kl, j + kv) = 0.0_dp
          km = min(kl, n - j)
@@ -182,6 +186,7 @@ contains
             cycle
          end if
          ju = max(ju, min(j + ku + jp - 1, n))
+         width = max(width, ju - j)
          ! rows j and j + jp - 1 exchanged in columns j to ju (A(r, c) is ab(kv + 1 + r - c, c))
          if (jp /= 1) then
             do c = j, ju
@@ -196,21 +201,25 @@ contains
             do i = 1, km
                ab(kv + 1 + i, j) = ab(kv + 1 + i, j)*reciprocal_pivot
             end do
-            ! A(j+i, c) = A(j+i, c) + l_i (-A(j, c)), as dger computes it
+            ! A(j+i, c) = A(j+i, c) + l_i (-A(j, c)), as dger computes it (skipping zeros)
             do c = j + 1, ju
                factor = -ab(kv + 1 - (c - j), c)
+               if (factor == 0.0_dp) cycle
+               !GCC$ novector
                do i = 1, km
                   ab(kv + 1 + i - (c - j), c) = ab(kv + 1 + i - (c - j), c) + ab(kv + 1 + i, j)*factor
                end do
             end do
          end if
       end do
+      if (present(upper_width)) upper_width = width
    end subroutine narrow_band_lu_factor
 
-   !> Solve A x = b with the factors of `narrow_band_lu_factor` (or `band_lu_factor`),
-   !> written out as LAPACK's dgbtrs computes it: the row interchanges and L forward,
-   !> then U backward with its kl + ku superdiagonals (dtbsv); b is overwritten by x.
-   pure subroutine narrow_band_lu_solve(ab, kl, ku, ipiv, b, inverse_diagonal)
+   !> Solve A x = b with the factors of `narrow_band_lu_factor` (or `band_lu_factor`):
+   !> the row interchanges and L forward as LAPACK's dgbtrs applies them, then U
+   !> backward, row by row over the superdiagonals that hold entries (dgbtrs's dtbsv
+   !> goes column by column: the sums agree to rounding); b is overwritten by x.
+   pure subroutine narrow_band_lu_solve(ab, kl, ku, ipiv, b, inverse_diagonal, upper_width)
       !> LU factors
       real(dp), contiguous, intent(in) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -221,11 +230,15 @@ contains
       real(dp), contiguous, intent(inout) :: b(:)
       !> 1/U(j, j) from `narrow_band_lu_factor`: multiplied instead of dividing by U(j, j)
       real(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
-      integer :: n, kd, j, i, l, lm
-      real(dp) :: swap, factor
+      !> `upper_width` from `narrow_band_lu_factor` (default kl + ku)
+      integer, intent(in), optional :: upper_width
+      integer :: n, kd, j, i, l, lm, width
+      real(dp) :: swap, factor, total
 
       n = size(ab, 2)
       kd = kl + ku + 1
+      width = kl + ku
+      if (present(upper_width)) width = min(upper_width, width)
       if (kl > 0) then
          do j = 1, n - 1
             lm = min(kl, n - j)
@@ -236,22 +249,25 @@ contains
                b(j) = swap
             end if
             factor = -b(j)
+            !GCC$ novector
             do i = 1, lm
                b(j + i) = b(j + i) + ab(kd + i, j)*factor
             end do
          end do
       end if
+      ! U backward row by row: x(j) = (b(j) - sum_i U(j, j + i) x(j + i)) / U(j, j), one
+      ! running sum per row (U(j, j + i) is ab(kd - i, j + i))
       do j = n, 1, -1
-         if (b(j) == 0.0_dp) cycle
-         if (present(inverse_diagonal)) then
-            b(j) = b(j)*inverse_diagonal(j)
-         else
-            b(j) = b(j)/ab(kd, j)
-         end if
-         factor = b(j)
-         do i = j - 1, max(1, j - kl - ku), -1
-            b(i) = b(i) - factor*ab(kd - j + i, j)
+         total = b(j)
+         !GCC$ novector
+         do i = 1, min(width, n - j)
+            total = total - ab(kd - i, j + i)*b(j + i)
          end do
+         if (present(inverse_diagonal)) then
+            b(j) = total*inverse_diagonal(j)
+         else
+            b(j) = total/ab(kd, j)
+         end if
       end do
    end subroutine narrow_band_lu_solve
 

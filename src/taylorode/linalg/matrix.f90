@@ -410,8 +410,6 @@ contains
       real(dp), intent(in) :: alpha
       class(matrix_type), intent(in) :: b, c
       type(status_type), intent(inout) :: stat
-      integer :: i, j, k, shift, shift_b, shift_c
-      real(dp) :: ckj
       if (b%n /= self%n .or. c%n /= self%n) then
          call mismatch(stat, "a product")
          return
@@ -425,17 +423,8 @@ contains
                call mismatch(stat, "a product")
                return
             end if
-            shift = self%diagonal
-            shift_b = b%diagonal
-            shift_c = c%diagonal
-            do j = 1, self%n
-               do k = max(1, j - c%ku), min(self%n, j + c%kl)
-                  ckj = alpha*c%ab(shift_c + k - j, j)
-                  do i = max(1, k - b%ku), min(self%n, k + b%kl)
-                     self%ab(shift + i - j, j) = self%ab(shift + i - j, j) + ckj*b%ab(shift_b + i - k, k)
-                  end do
-               end do
-            end do
+            call add_band_product(self%ab, self%diagonal, alpha, b%ab, b%diagonal, b%kl, b%ku, &
+               c%ab, c%diagonal, c%kl, c%ku)
          class default
             call mismatch(stat, "a product")
          end select
@@ -443,6 +432,29 @@ contains
          call mismatch(stat, "a product")
       end select
    end subroutine band_add_product
+
+   !> A = A + alpha B C on band storages of order size(a, 2), column by column:
+   !> (B C)(:, j) = sum_k B(:, k) C(k, j), skipping the zero entries of C (as BLAS
+   !> dger skips zero multipliers; Jacobians often hold zeros inside their bands).
+   pure subroutine add_band_product(a, diagonal_a, alpha, b, diagonal_b, kl_b, ku_b, c, diagonal_c, kl_c, ku_c)
+      real(dp), contiguous, intent(inout) :: a(:, :)
+      integer, intent(in) :: diagonal_a, diagonal_b, kl_b, ku_b, diagonal_c, kl_c, ku_c
+      real(dp), intent(in) :: alpha
+      real(dp), contiguous, intent(in) :: b(:, :), c(:, :)
+      integer :: n, i, j, k
+      real(dp) :: ckj
+      n = size(a, 2)
+      do j = 1, n
+         do k = max(1, j - ku_c), min(n, j + kl_c)
+            if (c(diagonal_c + k - j, j) == 0.0_dp) cycle
+            ckj = alpha*c(diagonal_c + k - j, j)
+            !GCC$ novector
+            do i = max(1, k - ku_b), min(n, k + kl_b)
+               a(diagonal_a + i - j, j) = a(diagonal_a + i - j, j) + ckj*b(diagonal_b + i - k, k)
+            end do
+         end do
+      end do
+   end subroutine add_band_product
 
    subroutine band_add_identity(self, alpha)
       class(band_matrix_type), intent(inout) :: self

@@ -30,6 +30,8 @@ module taylorode_linalg_solver
       integer, allocatable :: pivots(:)
       !> Reciprocals of the pivots (matrices factored by the written-out LU)
       real(dp), allocatable :: inverse_diagonal(:)
+      !> Superdiagonals of the band factor U that hold entries (written-out band LU)
+      integer :: upper_width = 0
       !> Whether `matrix` holds valid factors
       logical :: factored = .false.
    contains
@@ -76,7 +78,8 @@ contains
             ! no room for the fill-in (a matrix not made to be factored)
             info = -1
          else if (a%kl <= narrow_band_max_width) then
-            call narrow_band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info, self%inverse_diagonal)
+            call narrow_band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info, self%inverse_diagonal, &
+               self%upper_width)
          else
             call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)
          end if
@@ -112,7 +115,8 @@ contains
             end if
          type is (band_matrix_type)
             if (a%kl <= narrow_band_max_width) then
-               call narrow_band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, self%inverse_diagonal)
+               call narrow_band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, self%inverse_diagonal, &
+                  self%upper_width)
                info = 0
             else
                call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
