@@ -44,6 +44,7 @@ contains
          new_unittest("problem-without-jacobians", test_problem_without_jacobians), &
          new_unittest("van-der-pol-initial-states", test_initial_states), &
          new_unittest("test-set-jacobians", test_test_set_jacobians), &
+         new_unittest("rhs-equals-f-plus-g", test_rhs_equals_parts), &
          new_unittest("unknown-problem", test_unknown_problem), &
          new_unittest("band-jacobians", test_band_jacobians), &
          new_unittest("banded-path-equals-dense", test_banded_path) &
@@ -161,6 +162,51 @@ contains
          end do
       end do
    end subroutine test_test_set_jacobians
+
+   !> F from `rhs` is f + g to the last bit, for every problem of the test set (those
+   !> that compute F in one call and those that keep the default), both Van der Pol
+   !> splittings, and a user problem with f and g only; at the initial state and at
+   !> a perturbed one.
+   subroutine test_rhs_equals_parts(error)
+      type(error_type), allocatable, intent(out) :: error
+      class(test_problem_type), allocatable :: problem
+      type(van_der_pol_type) :: stiff_split
+      type(vdp_without_jacobians) :: user
+      type(status_type) :: stat
+      integer :: k
+
+      do k = 1, test_problem_count
+         call new_test_problem(test_problem_names(k), problem, stat)
+         call check(error, stat%code, status_ok, stat%message)
+         if (allocated(error)) return
+         call compare_rhs(error, problem, problem%u0, trim(test_problem_names(k)))
+         if (allocated(error)) return
+      end do
+      stiff_split = new_van_der_pol(1000.0_dp, vdp_split_stiff)
+      call compare_rhs(error, stiff_split, stiff_split%u0, "van der pol, stiff splitting")
+      if (allocated(error)) return
+      user%mu = 5.0_dp
+      call compare_rhs(error, user, [2.0_dp, -0.5_dp], "a problem with the default rhs")
+   end subroutine test_rhs_equals_parts
+
+   subroutine compare_rhs(error, problem, u0, label)
+      type(error_type), allocatable, intent(out) :: error
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: u0(:)
+      character(len=*), intent(in) :: label
+      real(dp), allocatable :: u(:), f(:), g(:), whole(:)
+      integer :: which, i
+      allocate (f(size(u0)), g(size(u0)), whole(size(u0)))
+      do which = 1, 2
+         u = u0
+         if (which == 2) u = u0 + 0.01_dp*(1.0_dp + abs(u0))*[(sin(1.3_dp*i), i=1, size(u0))]
+         call problem%f(0.3_dp, u, f)
+         call problem%g(0.3_dp, u, g)
+         call problem%rhs(0.3_dp, u, whole)
+         call check(error, all(whole == f + g), label//": rhs differs from f + g")
+         if (allocated(error)) return
+      end do
+   end subroutine compare_rhs
 
    subroutine compare_central(error, problem, t, u, of_f, label)
       type(error_type), allocatable, intent(out) :: error

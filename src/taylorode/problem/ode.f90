@@ -49,6 +49,8 @@ module taylorode_problem_ode
       logical, private :: fatal = .false.
       !> Work arrays of the finite-difference Jacobians
       type(difference_workspace_type), private :: differences
+      !> g(t, U) for the default `rhs` (allocated at its first call)
+      real(dp), allocatable, private :: rhs_work(:)
    contains
       !> Non-stiff part f(t, U)
       procedure(rhs_interface), deferred :: f
@@ -71,6 +73,10 @@ module taylorode_problem_ode
       procedure :: jac_f_band
       !> dg/dU in LAPACK band storage (default: grouped forward differences of g)
       procedure :: jac_g_band
+      !> The whole right-hand side F(t, U) = f(t, U) + g(t, U), for the schemes that use
+      !> only F (radau5); default: f, then g added. Override it when F costs less in one
+      !> call; it must equal f + g
+      procedure :: rhs
       !> J_f v, the Jacobian of f times a vector (default: a forward difference of f along v)
       procedure :: jvp_f
       !> J_g v, the Jacobian of g times a vector (default: a forward difference of g along v)
@@ -253,6 +259,29 @@ contains
       real(dp), intent(out) :: band(:, :)
       call band_differences(self, .false., t, u, band)
    end subroutine jac_g_band
+
+   !> F(t, u) = f(t, u) + g(t, u): f into dudt, then g, through a work array the problem
+   !> keeps (allocated at the first call, and again only when the size changes).
+   subroutine rhs(self, t, u, dudt)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> F(t, u), same size as u
+      real(dp), intent(out) :: dudt(:)
+      integer :: i
+      if (allocated(self%rhs_work)) then
+         if (size(self%rhs_work) /= size(u)) deallocate (self%rhs_work)
+      end if
+      if (.not. allocated(self%rhs_work)) allocate (self%rhs_work(size(u)))
+      call self%f(t, u, dudt)
+      call self%g(t, u, self%rhs_work)
+      do i = 1, size(u)
+         dudt(i) = dudt(i) + self%rhs_work(i)
+      end do
+   end subroutine rhs
 
    !> J_f(t, u) v by a forward difference of f along v (two evaluations of f); problems
    !> with an analytic product override it.

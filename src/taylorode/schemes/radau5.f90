@@ -129,14 +129,14 @@ module taylorode_schemes_radau5
       logical :: small = .false.
       !> ((alpha + i beta)/h) I - J and its factors
       type(complex_solver_type) :: complex_solver
-      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, f at the stages, then
-      !> the Newton right-hand sides and increments of W, and g at the stages
-      real(dp), allocatable :: z(:, :), w(:, :), r(:, :), g_stage(:, :)
+      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and F at the stages, then
+      !> the Newton right-hand sides and increments of W
+      real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
       !> Collocation polynomial of the last accepted step
       real(dp), allocatable :: polynomial(:, :)
-      !> State at the start of the step, F there, a stage state, work space, the
-      !> estimate and its filtered right-hand side part
-      real(dp), allocatable :: u_start(:), rhs0(:), stage(:), scratch(:), estimate(:), stage_part(:)
+      !> State at the start of the step, F there, a stage state, the estimate and its
+      !> filtered right-hand side part
+      real(dp), allocatable :: u_start(:), rhs0(:), stage(:), estimate(:), stage_part(:)
       !> Start of the current step
       real(dp) :: t_start = 0.0_dp
       !> Step sizes of the polynomial and of the stages in z, and the one the
@@ -299,11 +299,11 @@ contains
       end if
       self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
       if (allocated(self%z)) then
-         deallocate (self%z, self%w, self%r, self%g_stage, self%polynomial, self%u_start, self%rhs0, &
-            self%stage, self%scratch, self%estimate, self%stage_part)
+         deallocate (self%z, self%w, self%r, self%polynomial, self%u_start, self%rhs0, &
+            self%stage, self%estimate, self%stage_part)
       end if
-      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%g_stage(n, 3), self%polynomial(n, 3))
-      allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%scratch(n), self%estimate(n), &
+      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3))
+      allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%estimate(n), &
          self%stage_part(n))
       if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
       if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
@@ -463,14 +463,13 @@ contains
       integer :: n, i, s, newt, limit
       real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
       real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, magnitude, stage_time(3)
-      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), g_stage(:, :), stage(:)
+      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:)
 
       n = self%n
       u0 => self%u_start
       z => self%z
       w => self%w
       r => self%r
-      g_stage => self%g_stage
       stage => self%stage
       if (self%have_polynomial) then
          c3q = h/self%h_polynomial
@@ -516,14 +515,12 @@ contains
             call fail(status_newton_not_converged)
             return
          end if
-         ! f and g at the three stages (the problem's parts called directly; F = f + g
-         ! is formed in the transformation below)
+         ! F = f + g at the three stages (the problem's rhs, called directly)
          do s = 1, 3
             do i = 1, n
                stage(i) = u0(i) + z(i, s)
             end do
-            call problem%f(stage_time(s), stage, r(:, s))
-            call problem%g(stage_time(s), stage, g_stage(:, s))
+            call problem%rhs(stage_time(s), stage, r(:, s))
          end do
          self%counters%f_evaluations = self%counters%f_evaluations + 3
          self%counters%g_evaluations = self%counters%g_evaluations + 3
@@ -535,9 +532,9 @@ contains
          ! the sum overflows): one test instead of one per value, a quarter of the cost
          magnitude = 0.0_dp
          do i = 1, n
-            f1 = r(i, 1) + g_stage(i, 1)
-            f2 = r(i, 2) + g_stage(i, 2)
-            f3 = r(i, 3) + g_stage(i, 3)
+            f1 = r(i, 1)
+            f2 = r(i, 2)
+            f3 = r(i, 3)
             magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
             r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*w(i, 1)
             r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*w(i, 2) + betan*w(i, 3)
@@ -689,9 +686,7 @@ contains
          real(dp), intent(in) :: time
          real(dp), contiguous, intent(in) :: state(:)
          real(dp), contiguous, intent(out) :: value(:)
-         call problem%f(time, state, value)
-         call problem%g(time, state, self%scratch)
-         value = value + self%scratch
+         call problem%rhs(time, state, value)
          self%counters%f_evaluations = self%counters%f_evaluations + 1
          self%counters%g_evaluations = self%counters%g_evaluations + 1
       end subroutine rhs

@@ -18,6 +18,8 @@ module taylorode_testset_e5
       procedure :: f => e5_f
       !> Stiff part g
       procedure :: g => e5_g
+      !> F = f + g in one call
+      procedure :: rhs => e5_rhs
       !> df/dU, analytic
       procedure :: jac_f => e5_jac_f
       !> dg/dU, analytic
@@ -64,6 +66,23 @@ contains
       ! y3' = y2' - y4' exactly as computed, so that rounding keeps y2 - y3 - y4 = 0
       dudt(3) = dudt(2) - dudt(4)
    end subroutine e5_g
+
+   subroutine e5_rhs(self, t, u, dudt)
+      class(e5_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp) :: r1, r2, r3, source
+      source = self%a*u(1)
+      r1 = self%b*u(1)*u(3)
+      r2 = self%m*self%c*u(2)*u(3)
+      r3 = self%c*u(4)
+      ! the sums f + g term by term, as e5_f and e5_g give them
+      dudt(1) = -source - r1
+      dudt(2) = source - r2
+      dudt(3) = source + (-r2 - (r1 - r3))
+      dudt(4) = r1 - r3
+   end subroutine e5_rhs
 
    subroutine e5_jac_f(self, t, u, jac)
       class(e5_type), intent(inout) :: self

@@ -38,6 +38,8 @@ module taylorode_testset_van_der_pol
       procedure :: f => vdp_f
       !> Stiff part g
       procedure :: g => vdp_g
+      !> F = f + g in one call (either splitting)
+      procedure :: rhs => vdp_rhs
       !> df/dU, analytic
       procedure :: jac_f => vdp_jac_f
       !> dg/dU, analytic
@@ -111,6 +113,15 @@ contains
       dudt(2) = self%mu*(1.0_dp - u(1)**2)*u(2)
       if (self%splitting == vdp_split_stiff) dudt(2) = dudt(2) - u(1)
    end subroutine vdp_g
+
+   subroutine vdp_rhs(self, t, u, dudt)
+      class(van_der_pol_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = u(2)
+      dudt(2) = self%mu*(1.0_dp - u(1)**2)*u(2) - u(1)
+   end subroutine vdp_rhs
 
    subroutine vdp_jac_f(self, t, u, jac)
       class(van_der_pol_type), intent(inout) :: self
