@@ -8,6 +8,8 @@
 # Prints one line per violation and "architecture: ok" when there is none.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+# the fpm tools/setup.sh installs into .venv when none is on PATH (as make uses it)
+if ! command -v fpm >/dev/null 2>&1 && [ -x .venv/bin/fpm ]; then export PATH="$PWD/.venv/bin:$PATH"; fi
 
 # area -> areas it may use (its own area is always allowed)
 declare -A may_use=(

@@ -20,6 +20,17 @@ blocks="$out/blocks"
 mkdir -p "$out" "$png" "$blocks"
 note() { echo "figures: $*" >&2; }
 
+# a Python with matplotlib for the figures, found before any run: the project's .venv
+# (which make puts first on PATH when it provides fpm) or any python3 further on PATH
+python=""
+for candidate in .venv/bin/python $(type -ap python3); do
+  if "$candidate" -c 'import matplotlib' >/dev/null 2>&1; then python="$candidate"; break; fi
+done
+if [ -z "$python" ]; then
+  note "ERROR: no Python with matplotlib for the figures (python3 -m pip install matplotlib)"
+  exit 1
+fi
+
 fpm build --profile release >/dev/null
 app="$(fpm run --profile release --runner echo 2>/dev/null | tail -n 1)"
 [ -x "$app" ] || { note "ERROR: no release build of the app ($app)"; exit 1; }
@@ -122,7 +133,7 @@ if [ -n "$peers" ]; then
     -r "$peers/refs" > "$out/peers_large.csv"
   /usr/bin/env time -v "$peers/sundials_bench" bench -p bs100000 -s cvode_bdf -t 1e-4 -m 0.01 -r "$peers/refs" \
     > /dev/null 2> "$out/peers_huge.time" || true
-  python3 "$peers/report.py" -o "$out/report" "$out/peers_small.csv" "$out/peers_large.csv" "${ours[@]}" >/dev/null
+  "$python" "$peers/report.py" -o "$out/report" "$out/peers_small.csv" "$out/peers_large.csv" "${ours[@]}" >/dev/null
   cp "$out/report/work_precision_vdp.png" "$png/peers_work_precision_vdp.png"
   cp "$out/report/work_precision_all.png" "$png/peers_work_precision_all.png"
   {
@@ -218,14 +229,6 @@ for file in "$blocks"/*.md; do
 done
 
 # ---------------------------------------------------------------- figures
-python=""
-for candidate in .venv/bin/python python3; do
-  if "$candidate" -c 'import matplotlib' >/dev/null 2>&1; then python="$candidate"; break; fi
-done
-if [ -z "$python" ]; then
-  note "no Python with matplotlib: numbers regenerated, figures not (python3 -m pip install matplotlib)"
-  exit 1
-fi
 "$python" tools/plot.py "$out" "$png"
 echo "figures: README numbers, figures in $png/, tables and CSV files in $out/ (machine: $out/machine.txt)"
 [ "$extreme_status" -eq 0 ] || note "taylorode extreme reported a failed case (see out/extreme.txt and the README)"
