@@ -272,10 +272,7 @@ contains
       !> F(t, u), same size as u
       real(dp), intent(out) :: dudt(:)
       integer :: i
-      if (allocated(self%rhs_work)) then
-         if (size(self%rhs_work) /= size(u)) deallocate (self%rhs_work)
-      end if
-      if (.not. allocated(self%rhs_work)) allocate (self%rhs_work(size(u)))
+      call sized(self%rhs_work, size(u))
       call self%f(t, u, dudt)
       call self%g(t, u, self%rhs_work)
       do i = 1, size(u)
@@ -337,12 +334,22 @@ contains
    subroutine prepare_workspace(workspace, n)
       type(difference_workspace_type), intent(inout) :: workspace
       integer, intent(in) :: n
-      if (allocated(workspace%base)) then
-         if (size(workspace%base) == n) return
-         deallocate (workspace%base, workspace%shifted, workspace%probe, workspace%increment)
-      end if
-      allocate (workspace%base(n), workspace%shifted(n), workspace%probe(n), workspace%increment(n))
+      call sized(workspace%base, n)
+      call sized(workspace%shifted, n)
+      call sized(workspace%probe, n)
+      call sized(workspace%increment, n)
    end subroutine prepare_workspace
+
+   !> A work array of n entries: allocated again only when its size differs.
+   pure subroutine sized(work, n)
+      real(dp), allocatable, intent(inout) :: work(:)
+      integer, intent(in) :: n
+      if (allocated(work)) then
+         if (size(work) == n) return
+         deallocate (work)
+      end if
+      allocate (work(n))
+   end subroutine sized
 
    !> Grouped forward differences of f (`of_f`) or g into band storage: the columns
    !> j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The band
