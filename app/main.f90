@@ -13,7 +13,7 @@ program taylorode_app
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
       status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
       scheme_count, integrator_options_type, paper_options, norm_max, norm_rms, controller_i, controller_pi, &
-      estimate_auto, estimate_embedded, estimate_doubling, &
+      estimate_auto, estimate_embedded, estimate_doubling, estimate_defect, &
       controller_pid, controller_name, integrate, integration_stats_type, step_history_type
    use taylorode_testset, only: test_problem_type, test_problem_names, new_test_problem, van_der_pol_type, &
       new_van_der_pol, vdp_split_paper, vdp_split_stiff, vdp_ic_unprepared, vdp_ic_prepared, &
@@ -432,8 +432,9 @@ contains
          select case (value)
          case ("embedded"); request%options%error_estimate = estimate_embedded
          case ("doubling"); request%options%error_estimate = estimate_doubling
+         case ("defect"); request%options%error_estimate = estimate_defect
          case default
-            call set_status(stat, status_invalid_argument, "--estimate must be embedded or doubling, got "//value)
+            call set_status(stat, status_invalid_argument, "--estimate must be embedded, doubling or defect, got "//value)
             return
          end select
       case ("--settings")
@@ -690,11 +691,22 @@ contains
       tolerance_range = .true.
    end function tolerance_range
 
-   !> Cross-checks of the options before any work: the integrator's own validation of
-   !> the vdp settings (h0 within h_max, tolerances, ...).
+   !> Cross-checks of the options before any work: --estimate defect only with schemes
+   !> that estimate their own step's error; the integrator's own validation of the vdp
+   !> settings (h0 within h_max, tolerances, ...).
    subroutine check_request(request, stat)
       type(request_type), intent(in) :: request
       type(status_type), intent(out) :: stat
+      integer :: k
+      if (request%options%error_estimate == estimate_defect) then
+         if (request%command == "vdp") then
+            if (.not. estimates_step_error(request%scheme, stat)) return
+         else
+            do k = 1, size(request%schemes)
+               if (.not. estimates_step_error(trim(request%schemes(k)), stat)) return
+            end do
+         end if
+      end if
       if (request%command /= "vdp") return
       ! the default final time is 3 mu
       if (request%t_end <= 0.0_dp .and. request%mu > huge(1.0_dp)/3.0_dp) then
@@ -704,6 +716,19 @@ contains
       call validate_options(request%options, 2, stat)
       if (stat%code /= status_ok) stat%message = "vdp: "//stat%message
    end subroutine check_request
+
+   !> Whether the scheme has its own step error estimate (else stat says so).
+   logical function estimates_step_error(name, stat)
+      character(len=*), intent(in) :: name
+      type(status_type), intent(inout) :: stat
+      class(scheme_type), allocatable :: scheme
+      call new_scheme(name, scheme, stat)
+      estimates_step_error = stat%code == status_ok
+      if (.not. estimates_step_error) return
+      estimates_step_error = scheme%estimates_step_error
+      if (.not. estimates_step_error) call set_status(stat, status_invalid_argument, &
+         "--estimate defect: "//name//" has no estimate of its own step's error (si-t-2 has)")
+   end function estimates_step_error
 
    !> Names joined by ", ".
    pure function join(names) result(text)
@@ -733,11 +758,13 @@ contains
             "  --rtol R --atol A  tolerances (default 0 and 1e-5)"//nl// &
             "  --norm max|rms     error norm (default max)"//nl// &
             "  --controller i|pi|pid  step-size controller (default i)"//nl// &
-            "  --settings paper|library  the paper's settings (default) or the library's defaults: step"//nl// &
-            "                     doubling, Newton started from an extrapolation and stopped by its estimated"//nl// &
-            "                     error, the scheme's controller; the paper's tolerances either way"//nl// &
-            "  --estimate embedded|doubling  error estimate: the embedded pair (the paper's) or step doubling"//nl// &
-            "                     (the error of the solution returned)"//nl// &
+            "  --settings paper|library  the paper's settings (default) or the library's defaults: the"//nl// &
+            "                     scheme's best error estimate, Newton started from an extrapolation and"//nl// &
+            "                     stopped by its estimated error, the scheme's controller; the paper's"//nl// &
+            "                     tolerances either way"//nl// &
+            "  --estimate embedded|doubling|defect  error estimate: the embedded pair (the paper's), step"//nl// &
+            "                     doubling or si-t-2's estimate of its own step (both: the error of the"//nl// &
+            "                     solution returned)"//nl// &
             "  --h0 H --hmax H    first and largest step (default 1e-2 and none)"//nl// &
             "  --no-reuse         factor the Newton matrix in every solve (default: keep it across steps)"//nl// &
             "  --budget N         attempted steps allowed, for the run and for its reference (default "// &
@@ -790,10 +817,10 @@ contains
             "                computed with radau5 at 1e-12)"//nl// &
             "  --budget N    step budget per run (default "//format_count(default_budget)// &
             "); tighter tolerances are skipped after a run reaches it"//nl// &
-            "  --estimate embedded|doubling  the error estimate (default: the library's, step doubling;"//nl// &
-            "                radau5 its own)"//nl// &
-            "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>,"//nl// &
-            "                taylorode_<scheme>_embedded with --estimate embedded)"
+            "  --estimate embedded|doubling|defect  the error estimate (default: the library's: si-t-2"//nl// &
+            "                its estimate of its own step, radau5 its pair, the others step doubling)"//nl// &
+            "  --csv FILE    write the rows in the peer harness's columns (solver taylorode_<scheme>, with"//nl// &
+            "                --estimate E taylorode_<scheme>_E)"
       case ("ensemble")
          text = "taylorode ensemble: a Van der Pol sweep over mu on one thread and on several (use --profile"//nl// &
             "  release and an OpenMP build: fpm run --profile release --flag -fopenmp --link-flag -fopenmp)"//nl// &
@@ -1707,8 +1734,8 @@ contains
             pad(error_text(err_end), 10)//pad(choose(size(bench%t_out) > 1, error_text(err_grid), "-"), 10))
          if (rows == size(csv_rows)) csv_rows = [csv_rows, csv_rows]
          rows = rows + 1
-         csv_rows(rows)%text = "taylorode_"//scheme_name//choose(request%options%error_estimate == estimate_embedded, &
-            "_embedded", "")//","//bench%name//","//tol_text//","// &
+         csv_rows(rows)%text = "taylorode_"//scheme_name//estimate_suffix(request%options%error_estimate)// &
+            ","//bench%name//","//tol_text//","// &
             format_real(options%rtol, 6)//","//format_real(options%atol, 6)//","//status_text//","// &
             format_integer(stats%accepted_steps)//","//format_integer(stats%rejected_steps())//","// &
             format_integer(max(work%f_evaluations, work%g_evaluations))//","// &
@@ -1719,6 +1746,19 @@ contains
             choose(size(bench%t_out) > 1, csv_number(err_grid), "")
       end associate
    end subroutine bench_run
+
+   !> The suffix of the CSV solver name for an error estimate asked for by name ("" for
+   !> the library's default).
+   pure function estimate_suffix(estimate) result(suffix)
+      integer, intent(in) :: estimate
+      character(len=:), allocatable :: suffix
+      select case (estimate)
+      case (estimate_embedded); suffix = "_embedded"
+      case (estimate_doubling); suffix = "_doubling"
+      case (estimate_defect); suffix = "_defect"
+      case default; suffix = ""
+      end select
+   end function estimate_suffix
 
    !> The harness's error of one output row: the largest |u_i - ref_i| (relative to
    !> |ref_i| for e5) over the measured components.

@@ -35,7 +35,7 @@ module taylorode
       controller_auto, controller_name
    use taylorode_integrate_options, only: integrator_options_type, paper_options, norm_max, norm_rms, &
       advance_scheme, advance_high, advance_low, error_weight_type, validate_options, &
-      estimate_auto, estimate_embedded, estimate_doubling
+      estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    use taylorode_integrate_history, only: step_history_type, write_history_csv, attempt_accepted, &
       attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, &
       attempt_name
@@ -62,7 +62,7 @@ module taylorode
    public :: accepted_step_type, step_observer_type, event_functions_type, event_rising, event_falling, event_any
    public :: controller_i, controller_pi, controller_pid, controller_predictive, controller_auto, controller_name
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low, error_weight_type, validate_options
-   public :: estimate_auto, estimate_embedded, estimate_doubling
+   public :: estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    public :: step_history_type, write_history_csv, attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, attempt_name
 

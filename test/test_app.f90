@@ -129,6 +129,12 @@ contains
       call expect("bench --refs /nonexistent", "not a directory")
       if (allocated(error)) return
       call expect("vdp --full", "does not apply to vdp")
+      if (allocated(error)) return
+      call expect("vdp --estimate defect", "i-t-2 has no estimate of its own step's error")
+      if (allocated(error)) return
+      call expect("bench --estimate defect --schemes si-t-2,radau5", "radau5 has no estimate")
+      if (allocated(error)) return
+      call expect("vdp --estimate halving", "embedded, doubling or defect")
    contains
       subroutine expect(arguments, words)
          character(len=*), intent(in) :: arguments, words

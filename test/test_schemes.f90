@@ -2,9 +2,10 @@
 !> every one-step scheme.
 module test_schemes
    use testdrive, only: new_unittest, unittest_type, error_type, check
-   use taylorode_base_strings, only: format_integer
+   use taylorode_base_strings, only: format_integer, format_real
    use test_support, only: rk4_reference, stat_message
-   use taylorode_testset, only: linear_test_type, van_der_pol_type, new_van_der_pol
+   use taylorode_testset, only: linear_test_type, van_der_pol_type, new_van_der_pol, brusselator_type, &
+      new_brusselator
    use taylorode_analysis, only: stability_function
    use taylorode, only: dp, ode_problem, scheme_type, status_type, new_scheme, scheme_names, &
       scheme_count, integrate_fixed, status_ok, status_size_mismatch, status_invalid_argument, status_nonfinite, &
@@ -62,6 +63,7 @@ contains
          new_unittest("stability-function", test_stability_function), &
          new_unittest("l-stability", test_l_stability), &
          new_unittest("embedded-difference", test_embedded_difference), &
+         new_unittest("step-error-estimate", test_step_error), &
          new_unittest("unknown-scheme", test_unknown_scheme), &
          new_unittest("bad-step-input", test_bad_step_input), &
          new_unittest("singular-newton-matrix", test_singular_newton), &
@@ -254,6 +256,81 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_embedded_difference
+
+   !> The estimate of a step's own local error (si-t-2, the one scheme that has it)
+   !> against the true local error of one step, from radau5 with 64 steps over [0, h]
+   !> (error ~ 1e-18 here), for h = 0.05, 0.025, 0.0125, 0.00625 on three problems:
+   !> Van der Pol mu = 1 (g nonlinear: the curvature term of the estimate counts),
+   !> u' = cos u - 2u^3 - u (f and g nonlinear) and the Brusselator with 3 points (g
+   !> linear). The error is of order 3 in h, the estimate's own error of order 4:
+   !> observed orders within 0.3 of 3 and 4 (measured 2.93-3.02 and 3.88-3.97), and
+   !> at the smallest h the estimate within 1 % of the error (measured 0.15-0.67 %).
+   !> The schemes without such an estimate, and si-t-2 before any step, answer
+   !> status_invalid_argument.
+   subroutine test_step_error(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: steps = 4
+      type(van_der_pol_type) :: vdp
+      type(cubic_problem) :: cubic
+      type(brusselator_type) :: brusselator
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: estimate(6), u1(6)
+      integer :: k
+
+      vdp = new_van_der_pol(1.0_dp)
+      call check_estimate(vdp, [2.0_dp, -0.3_dp], "van der pol")
+      if (allocated(error)) return
+      call check_estimate(cubic, [0.7_dp], "cubic")
+      if (allocated(error)) return
+      brusselator = new_brusselator(3)
+      call check_estimate(brusselator, brusselator%u0, "brusselator")
+      if (allocated(error)) return
+
+      do k = 1, scheme_count
+         call new_scheme(trim(scheme_names(k)), scheme, stat)
+         call scheme%take_step(vdp, 0.0_dp, 0.01_dp, [2.0_dp, 0.0_dp], u1(:2), stat)
+         stat = status_type()
+         call scheme%step_error(vdp, 0.0_dp, 0.01_dp, [2.0_dp, 0.0_dp], u1(:2), estimate(:2), stat)
+         call check(error, (stat%code == status_ok) .eqv. scheme%estimates_step_error, trim(scheme_names(k))// &
+            ": step_error answers "//stat_message(stat))
+         if (allocated(error)) return
+      end do
+      call new_scheme("si-t-2", scheme, stat)
+      call scheme%step_error(vdp, 0.0_dp, 0.01_dp, [2.0_dp, 0.0_dp], u1(:2), estimate(:2), stat)
+      call check(error, stat%code, status_invalid_argument, "si-t-2: step_error before any step")
+   contains
+      subroutine check_estimate(problem, u0, label)
+         class(ode_problem), intent(inout) :: problem
+         real(dp), intent(in) :: u0(:)
+         character(len=*), intent(in) :: label
+         class(scheme_type), allocatable :: scheme, reference_scheme
+         real(dp) :: u1(size(u0)), exact(size(u0)), estimate(size(u0)), h
+         real(dp) :: true_size(steps), miss(steps), order_error, order_miss
+         integer :: i
+         do i = 1, steps
+            h = 0.1_dp/2.0_dp**i
+            call new_scheme("si-t-2", scheme, stat)
+            call scheme%take_step(problem, 0.0_dp, h, u0, u1, stat)
+            call scheme%step_error(problem, 0.0_dp, h, u0, u1, estimate, stat)
+            call check(error, stat%code, status_ok, label//": "//stat_message(stat))
+            if (allocated(error)) return
+            call new_scheme("radau5", reference_scheme, stat)
+            exact = u0
+            call integrate_fixed(problem, reference_scheme, 0.0_dp, h, 64, exact, stat)
+            true_size(i) = norm2(u1 - exact)
+            miss(i) = norm2(u1 - exact - estimate)
+         end do
+         order_error = log(true_size(steps - 1)/true_size(steps))/log(2.0_dp)
+         order_miss = log(miss(steps - 1)/miss(steps))/log(2.0_dp)
+         call check(error, abs(order_error - 3.0_dp) < 0.3_dp .and. abs(order_miss - 4.0_dp) < 0.3_dp, &
+            label//": orders of the error and of the estimate's error "//format_real(order_error)//", "// &
+            format_real(order_miss)//" (expected 3 and 4)")
+         if (allocated(error)) return
+         call check(error, miss(steps) < 0.01_dp*true_size(steps), label//": the estimate misses the error by "// &
+            format_real(miss(steps)/true_size(steps))//" of it")
+      end subroutine check_estimate
+   end subroutine test_step_error
 
    subroutine test_unknown_scheme(error)
       type(error_type), allocatable, intent(out) :: error

@@ -12,7 +12,7 @@ module taylorode_integrate_integrator
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs
-   use taylorode_integrate_options, only: integrator_options_type, validate_options
+   use taylorode_integrate_options, only: integrator_options_type, validate_options, estimate_defect
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_stepper, only: stepper_type
    use taylorode_integrate_reduction, only: agree_on_outcome, finite_everywhere
@@ -171,6 +171,11 @@ contains
       end if
       call validate_options(options, self%n, stat)
       if (stat%code /= status_ok) return
+      if (options%error_estimate == estimate_defect .and. .not. scheme%estimates_step_error) then
+         call set_status(stat, status_invalid_argument, "integrate: error_estimate = estimate_defect needs a "// &
+            "scheme that estimates the error of its own step (si-t-2); "//scheme%name//" has none")
+         return
+      end if
       call scheme%prepare(problem, self%n, stat)
       if (stat%code /= status_ok) return
       self%options = options
@@ -211,18 +216,18 @@ contains
             self%h = 0.01_dp*size_u/size_f
          end if
          self%h = min(max(self%h, options%h_min), options%h_max)
-         ! F at the end of an Euler step of size h (u_new and the scratch as work space)
+         ! F at the end of an Euler step of size h (u_new and the Newton guess as work space)
          self%stepper%u_new = u0 + self%h*self%stepper%delta
          work_before = scheme%counters
-         call evaluate_start(self, problem, scheme, t0 + self%h, self%stepper%u_new, self%stepper%u_whole, stat)
+         call evaluate_start(self, problem, scheme, t0 + self%h, self%stepper%u_new, self%stepper%guess, stat)
          call add_work(self%total, scheme%counters, work_before)
          if (stat%code /= status_ok) then
             ! an Euler step can leave where F is defined: keep the first guess
             stat = status_type()
             return
          end if
-         self%stepper%u_whole = self%stepper%u_whole - self%stepper%delta
-         second_derivative = self%stepper%weighted_norm(problem, options, self%stepper%u_whole)/self%h
+         self%stepper%guess = self%stepper%guess - self%stepper%delta
+         second_derivative = self%stepper%weighted_norm(problem, options, self%stepper%guess)/self%h
          second_derivative = max(second_derivative, size_f)
          if (second_derivative <= 1.0e-15_dp) then
             limit = max(fallback, 1.0e-3_dp*self%h)

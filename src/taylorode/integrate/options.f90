@@ -11,7 +11,7 @@ module taylorode_integrate_options
 
    public :: integrator_options_type, paper_options, validate_options, error_weight_type
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
-   public :: estimate_auto, estimate_embedded, estimate_doubling
+   public :: estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
 
    !> err = max_i |delta_i| / w_i (the paper's)
    integer, parameter :: norm_max = 1
@@ -23,8 +23,10 @@ module taylorode_integrate_options
    integer, parameter :: advance_high = 1
    !> Advance with the lower-order member of the embedded pair
    integer, parameter :: advance_low = 2
-   !> Step doubling, except for a scheme whose embedded pair estimates the error of
-   !> the solution it returns (radau5), which uses its pair
+   !> The scheme's best: its embedded pair when that estimates the error of the
+   !> solution it returns (radau5), its own estimate of its step's error when it has
+   !> one (si-t-2: estimate_defect), step doubling otherwise; the embedded pair
+   !> whenever `advance` chooses a member of it
    integer, parameter :: estimate_auto = 0
    !> The difference of the embedded pair (the paper's): for the Taylor pairs it
    !> estimates the error of the lower-order member
@@ -34,6 +36,12 @@ module taylorode_integrate_options
    !> scheme's order on nonlinear problems); the solution advances with U_{h/2,h/2},
    !> or with its local extrapolation (options%local_extrapolation)
    integer, parameter :: estimate_doubling = 2
+   !> The scheme's own estimate of the local error of its step (`step_error`; si-t-2:
+   !> 2/3 of the trapezoidal defect U1 - U0 - h/2 (F0 + F1), corrected for the
+   !> curvature of g and multiplied by the inverse of the step's Newton matrix): one
+   !> step per attempt, one factorization kept; the solution advances with U1, or
+   !> with U1 minus the estimate (options%local_extrapolation)
+   integer, parameter :: estimate_defect = 3
    !> Largest controller exponent q accepted
    real(dp), parameter :: max_q = 20.0_dp
 
@@ -79,12 +87,16 @@ module taylorode_integrate_options
       integer :: controller = controller_auto
       !> Safety factor kappa in (0, 1]
       real(dp) :: kappa = default_kappa
-      !> Error estimate: estimate_auto, estimate_embedded or estimate_doubling
+      !> Error estimate: estimate_auto, estimate_embedded, estimate_doubling or estimate_defect
       integer :: error_estimate = estimate_auto
-      !> With step doubling, advance with the Richardson extrapolation
-      !> U_{h/2,h/2} + (U_{h/2,h/2} - U_h) / (2^p - 1), of order p + 1, whose error err
-      !> bounds (the stability function becomes (2^p R(z/2)^2 - R(z)) / (2^p - 1): for
-      !> the L-stable schemes still L-stable and A(89 deg)-stable); off: with U_{h/2,h/2}
+      !> Advance with the value the error estimate corrects: with step doubling the
+      !> Richardson extrapolation U_{h/2,h/2} + (U_{h/2,h/2} - U_h) / (2^p - 1), of order
+      !> p + 1, whose error err bounds (the stability function becomes
+      !> (2^p R(z/2)^2 - R(z)) / (2^p - 1): for the L-stable schemes still L-stable and
+      !> A(89 deg)-stable); with estimate_defect U1 minus the estimate, of order 3 (on
+      !> the linear test R - 2/3 (R (1 - s/2) - (1 + s/2)) / M, s = z + w, M the Newton
+      !> matrix: si-t-2 stays L-stable in w, A(89 deg)-stable in w); off: with
+      !> U_{h/2,h/2} or U1
       logical :: local_extrapolation = .true.
       !> Order exponent q of the controller, in [1, 20]; 0 takes it from the estimate
       !> (step doubling: the scheme's order + 1; embedded pair: lower order + 1)
@@ -260,10 +272,12 @@ contains
       if (all(options%advance /= [advance_scheme, advance_high, advance_low])) then
          call invalid("advance must be advance_scheme, advance_high or advance_low"); return
       end if
-      if (all(options%error_estimate /= [estimate_auto, estimate_embedded, estimate_doubling])) then
-         call invalid("error_estimate must be estimate_auto, estimate_embedded or estimate_doubling"); return
+      if (all(options%error_estimate /= [estimate_auto, estimate_embedded, estimate_doubling, estimate_defect])) then
+         call invalid("error_estimate must be estimate_auto, estimate_embedded, estimate_doubling or "// &
+            "estimate_defect"); return
       end if
-      if (options%error_estimate == estimate_doubling .and. options%advance /= advance_scheme) then
+      if (any(options%error_estimate == [estimate_doubling, estimate_defect]) .and. &
+         options%advance /= advance_scheme) then
          call invalid("advance_high and advance_low choose a member of the embedded pair: they need "// &
             "error_estimate = estimate_embedded (or estimate_auto)"); return
       end if

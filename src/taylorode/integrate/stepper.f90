@@ -5,7 +5,9 @@
 !> Error estimates: the embedded pair's difference, or step doubling (two steps of
 !> h/2 advance the solution, one step of h beside them gives the Richardson
 !> estimate, and with local extrapolation the Richardson-extrapolated value
-!> advances; the scheme's Newton solvers keep a factorization for each of h/2 and h).
+!> advances; the scheme's Newton solvers keep a factorization for each of h/2 and h),
+!> or the scheme's own estimate of its step's error (`step_error`, si-t-2), with which
+!> U1 minus the estimate advances when locally extrapolating.
 !> Newton's method starts from the line through the last accepted step's two
 !> states, extended to the end of the new step (or of each half step).
 !>
@@ -18,11 +20,11 @@ module taylorode_integrate_stepper
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite, &
       status_evaluation_failed
-   use taylorode_problem_ode, only: ode_problem
+   use taylorode_problem_ode, only: ode_problem, sized
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_scheme, advance_high, &
-      advance_low, estimate_auto, estimate_embedded, estimate_doubling
+      advance_low, estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    use taylorode_integrate_controller, only: controller_factor, controller_auto, controller_i, &
       controller_predictive, predictive_factor
    use taylorode_integrate_history, only: attempt_accepted, attempt_rejected_error, &
@@ -76,7 +78,7 @@ module taylorode_integrate_stepper
       real(dp) :: newton_fraction = 0.0_dp
       !> Size of the previous accepted step (0 when there is none)
       real(dp) :: h_previous = 0.0_dp
-      !> The error estimate in use (estimate_embedded or estimate_doubling)
+      !> The error estimate in use (estimate_embedded, estimate_doubling or estimate_defect)
       integer :: estimate = estimate_embedded
       !> Step doubling: 1 / (2^p - 1), the Richardson factor of the difference
       real(dp) :: richardson = 1.0_dp
@@ -121,13 +123,11 @@ contains
       type(integrator_options_type), intent(in) :: options
       if (allocated(self%u_new)) then
          if (size(self%u_new) /= n) deallocate (self%u_new, self%delta, self%weights, self%newton%tolerance, &
-            self%newton_whole%tolerance, &
-            self%u_half, self%u_whole, self%u_step_start, self%u_step_end, self%guess)
+            self%u_step_start, self%u_step_end, self%guess)
       end if
       if (.not. allocated(self%u_new)) then
          allocate (self%u_new(n), self%delta(n), self%weights(n), self%newton%tolerance(n), &
-            self%newton_whole%tolerance(n), self%u_half(n), &
-            self%u_whole(n), self%u_step_start(n), self%u_step_end(n), self%guess(n))
+            self%u_step_start(n), self%u_step_end(n), self%guess(n))
       end if
       self%newton%max_iterations = options%max_newton_iterations
       self%newton%reuse_matrix = options%reuse_newton_matrix
@@ -139,9 +139,18 @@ contains
       self%newton_whole%exact_matrix = self%newton%exact_matrix
       self%estimate = options%error_estimate
       if (self%estimate == estimate_auto) then
-         self%estimate = merge(estimate_embedded, estimate_doubling, &
-            scheme%estimates_own_error .or. options%advance /= advance_scheme)
+         if (scheme%estimates_own_error .or. options%advance /= advance_scheme) then
+            self%estimate = estimate_embedded
+         else if (scheme%estimates_step_error) then
+            self%estimate = estimate_defect
+         else
+            self%estimate = estimate_doubling
+         end if
       end if
+      ! the states and Newton tolerances of step doubling's half and whole steps
+      call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling))
+      call sized(self%u_whole, size(self%u_half))
+      call sized(self%newton_whole%tolerance, size(self%u_half))
       self%newton%kept_factorizations = merge(2, 1, self%estimate == estimate_doubling)
       self%newton_whole%kept_factorizations = self%newton%kept_factorizations
       if (self%estimate == estimate_doubling) then
@@ -152,7 +161,7 @@ contains
       self%extrapolation_ready = .false.
       self%q = options%q
       if (self%q == 0.0_dp) then
-         if (self%estimate == estimate_doubling) then
+         if (self%estimate == estimate_doubling .or. self%estimate == estimate_defect) then
             self%q = real(scheme%nonlinear_order + 1, dp)
          else
             self%q = real(min(scheme%order, scheme%embedded_order) + 1, dp)
@@ -305,6 +314,11 @@ contains
       end if
       if (self%estimate == estimate_doubling) then
          call take_doubled_step()
+      else if (self%estimate == estimate_defect) then
+         if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
+         call run_scheme(scheme, self%newton, t, h, u, self%u_new)
+         if (outcome == attempt_accepted) call estimate_step_error()
+         if (outcome == attempt_accepted .and. options%local_extrapolation) self%u_new = self%u_new - self%delta
       else
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
          call run_scheme(scheme, self%newton, t, h, u, self%u_new, self%delta)
@@ -387,6 +401,14 @@ contains
          if (options%local_extrapolation) self%u_new = self%u_new + self%delta
       end subroutine take_doubled_step
 
+      !> The scheme's estimate of the error of the step it just took, in delta (a failed
+      !> evaluation or NaN/Inf values fail the attempt as in the step itself).
+      subroutine estimate_step_error()
+         call problem%clear_rejection()
+         call scheme%step_error(problem, t, h, u, self%u_new, self%delta, step_stat)
+         call conclude(self%delta)
+      end subroutine estimate_step_error
+
       !> One step of `stepper_scheme` with Newton `settings` from (t_from, u_from) into
       !> u_to (and the embedded difference when `difference` is given), started from
       !> self%guess when extrapolating; outcome says whether it succeeded or why not.
@@ -403,12 +425,21 @@ contains
          else
             call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference)
          end if
+         call conclude(u_to, difference)
+      end subroutine run_scheme
+
+      !> The outcome of what the scheme just computed (values, and more values when
+      !> given), agreed on by every process: a rejected evaluation, NaN or Inf values,
+      !> or the scheme's own failure (Newton's or its linear algebra's).
+      subroutine conclude(values, more_values)
+         real(dp), intent(in) :: values(:)
+         real(dp), intent(in), optional :: more_values(:)
          if (problem%evaluation_rejected()) then
             call set_code(step_stat, status_evaluation_failed)
          else if (step_stat%code == status_ok) then
-            if (.not. finite(u_to)) call set_code(step_stat, status_nonfinite)
-            if (present(difference)) then
-               if (.not. finite(difference)) call set_code(step_stat, status_nonfinite)
+            if (.not. finite(values)) call set_code(step_stat, status_nonfinite)
+            if (present(more_values)) then
+               if (.not. finite(more_values)) call set_code(step_stat, status_nonfinite)
             end if
          end if
          call agree_on_outcome(problem, step_stat)
@@ -422,7 +453,7 @@ contains
          case default
             outcome = attempt_failed_newton
          end select
-      end subroutine run_scheme
+      end subroutine conclude
 
    end subroutine attempt
 

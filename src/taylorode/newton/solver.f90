@@ -97,6 +97,8 @@ module taylorode_newton_solver
       real(dp), allocatable :: increment(:)
       !> 1 / tolerance of the current solve (the increments are measured by products)
       real(dp), allocatable :: inverse_tolerance(:)
+      !> The kept factorization the last solve used
+      integer :: last_slot = 1
    contains
       !> Allocate for systems of size m with a Newton matrix of the given structure
       procedure :: init
@@ -104,6 +106,8 @@ module taylorode_newton_solver
       procedure :: solve
       !> Forget the factors (a new integration or a new problem)
       procedure :: forget
+      !> x = M^(-1) x with the Newton matrix the last solve used
+      procedure :: apply_inverse
    end type newton_solver_type
 
    abstract interface
@@ -171,6 +175,22 @@ contains
       self%kept%contraction = 1.0_dp
    end subroutine forget
 
+   !> x = M^(-1) x with the factored Newton matrix of the last solve (a filter for
+   !> error estimates: it damps the components along the stiff directions as the
+   !> step damps them). status_invalid_argument (code only) when it holds no factors.
+   subroutine apply_inverse(self, x, counters, stat)
+      !> The solver, after a successful solve
+      class(newton_solver_type), intent(in) :: self
+      !> Vector on entry, M^(-1) times it on exit
+      real(dp), contiguous, intent(inout) :: x(:)
+      !> The linear solve is counted here
+      type(counters_type), intent(inout) :: counters
+      !> status_invalid_argument when there are no factors
+      type(status_type), intent(inout) :: stat
+      call self%kept(self%last_slot)%linear%solve(x, stat)
+      counters%linear_solves = counters%linear_solves + 1
+   end subroutine apply_inverse
+
    !> Newton's method for system%residual(u) = 0 from the guess in u. The matrix is
    !> built and factored at the first iterate, or kept from an earlier solve while h
    !> changed by at most 20 % and that solve contracted by 0.1 or better; it is
@@ -218,6 +238,7 @@ contains
       if (stat%code /= status_ok) return
       self%solves = self%solves + 1
       self%kept(slot)%last_used = self%solves
+      self%last_slot = slot
       ! with a kept matrix one small increment says little about the error left:
       ! a second iteration measures the contraction
       least_iterations = merge(1, 2, rebuild .or. settings%estimate_error)

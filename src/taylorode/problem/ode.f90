@@ -23,7 +23,7 @@ module taylorode_problem_ode
    private
 
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
-   public :: reduce_sum, reduce_max
+   public :: reduce_sum, reduce_max, sized
 
    !> `reduce` operation: the sum over the processes
    integer, parameter :: reduce_sum = 1

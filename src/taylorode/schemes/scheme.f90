@@ -10,7 +10,7 @@
 !> a given size no step allocates.
 module taylorode_schemes_scheme
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
+   use taylorode_base_status, only: status_type, set_status, set_code, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
@@ -68,6 +68,9 @@ module taylorode_schemes_scheme
       !> Whether its Newton iteration starts from a guess the integrator gives (the
       !> extrapolated last step); radau5 starts from its own collocation polynomial
       logical :: takes_newton_guess = .true.
+      !> Whether `step_error` estimates the local error of the step just taken (the
+      !> second-order Taylor schemes: their filtered trapezoidal defect)
+      logical :: estimates_step_error = .false.
       !> Degree of the continuous extension the scheme supplies through `dense_output`
       !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
       integer :: dense_degree = 0
@@ -96,6 +99,8 @@ module taylorode_schemes_scheme
       procedure :: failure_factor
       !> The scheme's own dense output of the step it just took (default: none)
       procedure :: dense_output
+      !> Estimate of the local error of the step just taken (default: none)
+      procedure :: step_error
    end type scheme_type
 
    abstract interface
@@ -326,6 +331,26 @@ contains
       integer, intent(out) :: degree
       degree = 0
    end subroutine dense_output
+
+   !> Estimate of the local error U1 - u(t + h) of the step the scheme just took from
+   !> (t, u0) to u1, for schemes that declare `estimates_step_error`; the default
+   !> has none and says so (status_invalid_argument, code only).
+   subroutine step_error(self, problem, t, h, u0, u1, error, stat)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Start and size of the step
+      real(dp), intent(in) :: t, h
+      !> States at both ends of the step
+      real(dp), intent(in) :: u0(:), u1(:)
+      !> The estimate
+      real(dp), contiguous, intent(out) :: error(:)
+      !> Outcome
+      type(status_type), intent(inout) :: stat
+      error = 0.0_dp
+      call set_code(stat, status_invalid_argument)
+   end subroutine step_error
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then

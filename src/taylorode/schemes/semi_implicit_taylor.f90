@@ -9,7 +9,7 @@
 !> Embedded pairs: si-t-1 with si-t-2, si-t-2 with si-t-1, si-t-2-paper with si-t-1.
 module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
    use taylorode_problem_ode, only: ode_problem
@@ -23,9 +23,6 @@ module taylorode_schemes_semi_implicit_taylor
 
    !> Member identifiers (also the indices of their Newton solvers)
    integer, parameter :: si_t_1 = 1, si_t_2 = 2, si_t_2_paper = 3
-   !> How much of the values at U0 is known: nothing, f, also J_f and J_g, also g and F
-   integer, parameter :: start_values_none = 0, start_values_f = 1, start_values_jacobians = 2, &
-      start_values_all = 3
 
    !> A vector of one member
    type :: member_vector_type
@@ -67,8 +64,8 @@ module taylorode_schemes_semi_implicit_taylor
       real(dp), allocatable :: u_start(:)
       !> The time the values at U0 belong to
       real(dp) :: t_start = 0.0_dp
-      !> How many of the values at U0 are known (start_values_none, _f, _jacobians, _all)
-      integer :: start = 0
+      !> Which values at U0 are known: f0, g0 (and F0), the Jacobians J_f0 and J_g0
+      logical :: known_f0 = .false., known_g0 = .false., known_jacobians = .false.
       !> Whether each member's Newton solver and matrices exist
       logical :: ready(3) = .false.
       !> The equation being solved
@@ -82,6 +79,8 @@ module taylorode_schemes_semi_implicit_taylor
       !> Forget the factored Newton matrix kept between steps
       procedure :: restart => semi_implicit_restart
       procedure :: stability => semi_implicit_stability
+      !> si-t-2: the filtered trapezoidal defect of the step
+      procedure :: step_error => semi_implicit_step_error
    end type semi_implicit_taylor_type
 
 contains
@@ -119,6 +118,7 @@ contains
          self%embedded_order = 1
          self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 [J_f0 F0 - J_g0 F(U1)]"
          self%newton_matrices = "I - h J_g(U1) + h^2/2 J_g0 (J_f0 + J_g(U1))"
+         self%estimates_step_error = .true.
       end select
    end function new_semi_implicit_taylor
 
@@ -150,7 +150,7 @@ contains
       self%ready = .false.
       if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%u_start)
       allocate (self%f0(n), self%g0(n), self%rhs0(n), self%u_start(n))
-      self%start = start_values_none
+      call forget_start(self)
       associate (system => self%system)
          if (allocated(system%f1)) deallocate (system%f1, system%g1, system%work)
          allocate (system%f1(n), system%g1(n), system%work(n))
@@ -200,7 +200,7 @@ contains
    subroutine semi_implicit_restart(self)
       class(semi_implicit_taylor_type), intent(inout) :: self
       call self%newton%forget()
-      self%start = start_values_none
+      call forget_start(self)
       self%system%jac_g0_constant = .false.
       self%system%jac_g1_constant = .false.
    end subroutine semi_implicit_restart
@@ -229,31 +229,32 @@ contains
          system%t1 = t + h
          system%h = h
          ! the values at U0 serve every step from it (step doubling's single and first
-         ! half step, a retry after a rejection): computed once per state
-         if (self%start /= start_values_none) then
-            if (t /= self%t_start .or. any(u0 /= self%u_start)) self%start = start_values_none
+         ! half step, a retry after a rejection): computed once per state, or taken over
+         ! from the error estimate of the step that ended there
+         if (self%known_f0) then
+            if (t /= self%t_start .or. any(u0 /= self%u_start)) call forget_start(self)
          end if
-         if (self%start == start_values_none) then
+         if (.not. self%known_f0) then
             call evaluate_f(problem, t, u0, self%f0, self%counters)
             self%t_start = t
             self%u_start = u0
-            self%start = start_values_f
+            self%known_f0 = .true.
          end if
-         if ((needed(si_t_2) .or. needed(si_t_2_paper)) .and. self%start < start_values_jacobians) then
+         if ((needed(si_t_2) .or. needed(si_t_2_paper)) .and. .not. self%known_jacobians) then
             call evaluate_jac_f(problem, t, u0, system%jac_f0, self%counters)
             if (.not. (problem%linear_g .and. system%jac_g0_constant)) then
                call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters)
                system%jac_g0_constant = problem%linear_g
             end if
-            self%start = start_values_jacobians
+            self%known_jacobians = .true.
          end if
-         if (needed(si_t_2) .and. self%start < start_values_all) then
+         if (needed(si_t_2) .and. .not. self%known_g0) then
             call evaluate_g(problem, t, u0, self%g0, self%counters)
             self%rhs0 = self%f0 + self%g0
-            self%start = start_values_all
+            self%known_g0 = .true.
          end if
          ! values the problem rejected are not kept
-         if (problem%evaluation_rejected()) self%start = start_values_none
+         if (problem%evaluation_rejected()) call forget_start(self)
          if (needed(si_t_1)) system%known(si_t_1)%values = u0 + h*self%f0
          if (needed(si_t_2)) then
             system%known(si_t_2)%values = u0 + h*self%f0
@@ -289,6 +290,62 @@ contains
          delta = delta - u1
       end if
    end subroutine semi_implicit_advance
+
+   !> Forget the values kept at the start of a step.
+   elemental subroutine forget_start(self)
+      type(semi_implicit_taylor_type), intent(inout) :: self
+      self%known_f0 = .false.
+      self%known_g0 = .false.
+      self%known_jacobians = .false.
+   end subroutine forget_start
+
+   !> The local error of the si-t-2 step just taken from (t, u0) to u1. With D = U1 -
+   !> U0 - h/2 (F0 + F1), the trapezoidal defect, and E = g1 - g0 - J_g0 (U1 - U0), the
+   !> error is -h^3/6 U''' + h^3/2 g''(F, F) + O(h^4) = 2/3 D + h/3 E + O(h^4); the
+   !> estimate is that, multiplied by the inverse of the step's Newton matrix (which
+   !> leaves it unchanged to O(h^4) and damps the stiff components as the step
+   !> does). f and g at U1 serve the next step from U1.
+   subroutine semi_implicit_step_error(self, problem, t, h, u0, u1, error, stat)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:), u1(:)
+      real(dp), contiguous, intent(out) :: error(:)
+      type(status_type), intent(inout) :: stat
+      integer :: i
+      error = 0.0_dp
+      if (self%member /= si_t_2 .or. .not. (self%known_f0 .and. self%known_g0 .and. self%known_jacobians)) then
+         call set_code(stat, status_invalid_argument)
+         return
+      end if
+      if (t /= self%t_start .or. any(u0 /= self%u_start)) then
+         call set_code(stat, status_invalid_argument)
+         return
+      end if
+      associate (system => self%system)
+         call evaluate_f(problem, t + h, u1, system%f1, self%counters)
+         call evaluate_g(problem, t + h, u1, system%g1, self%counters)
+         if (problem%evaluation_rejected()) return
+         do i = 1, size(u1)
+            error(i) = (2.0_dp/3.0_dp)*(u1(i) - u0(i) - 0.5_dp*h*(self%rhs0(i) + system%f1(i) + system%g1(i)))
+         end do
+         if (.not. problem%linear_g) then
+            system%work = u0 - u1
+            error = error + (h/3.0_dp)*(system%g1 - self%g0)
+            call system%jac_g0%multiply_add(h/3.0_dp, system%work, error)
+         end if
+         call self%newton(si_t_2)%apply_inverse(error, self%counters, stat)
+         ! the values at U1 start the next step
+         self%t_start = t + h
+         self%u_start = u1
+         self%f0 = system%f1
+         self%g0 = system%g1
+         self%rhs0 = self%f0 + self%g0
+         self%known_f0 = .true.
+         self%known_g0 = .true.
+         self%known_jacobians = .false.
+      end associate
+   end subroutine semi_implicit_step_error
 
    subroutine semi_implicit_residual(self, problem, u, r, counters)
       class(semi_implicit_system_type), intent(inout) :: self
