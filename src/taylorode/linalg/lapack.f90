@@ -256,11 +256,14 @@ contains
          end do
       end if
       ! U backward row by row: x(j) = (b(j) - sum_i U(j, j + i) x(j + i)) / U(j, j), one
-      ! running sum per row (U(j, j + i) is ab(kd - i, j + i))
+      ! running sum per row (U(j, j + i) is ab(kd - i, j + i)), summed from the far end:
+      ! x(j + 1), found just before, enters last, so that each row waits for the one
+      ! before it only through that term (the solve is bound by this chain, not by
+      ! the arithmetic)
       do j = n, 1, -1
          total = b(j)
          !GCC$ novector
-         do i = 1, min(width, n - j)
+         do i = min(width, n - j), 1, -1
             total = total - ab(kd - i, j + i)*b(j + i)
          end do
          if (present(inverse_diagonal)) then

@@ -342,7 +342,9 @@ contains
 
    !> A work array of n entries: allocated again only when its size differs.
    pure subroutine sized(work, n)
+      !> The work array
       real(dp), allocatable, intent(inout) :: work(:)
+      !> Its size
       integer, intent(in) :: n
       if (allocated(work)) then
          if (size(work) == n) return
