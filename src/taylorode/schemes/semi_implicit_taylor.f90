@@ -38,8 +38,8 @@ module taylorode_schemes_semi_implicit_taylor
       real(dp) :: t1 = 0.0_dp, h = 0.0_dp
       !> Known part of each member's update (allocated for the members in use)
       type(member_vector_type) :: known(3)
-      !> Values at the current Newton iterate
-      real(dp), allocatable :: f1(:), g1(:), work(:)
+      !> f and g at the current Newton iterate (after an si-t-2 residual f1 holds F = f + g)
+      real(dp), allocatable :: f1(:), g1(:)
       !> Jacobians at U0 (jac0 = J_f0 + J_g0, used by si-t-2-paper)
       class(matrix_type), allocatable :: jac_f0, jac_g0, jac0
       !> J_g at the current Newton iterate (si-t-1, si-t-2-paper)
@@ -58,8 +58,8 @@ module taylorode_schemes_semi_implicit_taylor
       integer :: member = si_t_2
       !> Member that gives the error estimate
       integer :: partner = si_t_1
-      !> Values at U0: f, g, F = f + g
-      real(dp), allocatable :: f0(:), g0(:), rhs0(:)
+      !> f and g at U0
+      real(dp), allocatable :: f0(:), g0(:)
       !> The state the values at U0 belong to
       real(dp), allocatable :: u_start(:)
       !> The time the values at U0 belong to
@@ -148,12 +148,12 @@ contains
          self%newton(k) = newton_solver_type()
       end do
       self%ready = .false.
-      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%u_start)
-      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%u_start(n))
+      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%u_start)
+      allocate (self%f0(n), self%g0(n), self%u_start(n))
       call forget_start(self)
       associate (system => self%system)
-         if (allocated(system%f1)) deallocate (system%f1, system%g1, system%work)
-         allocate (system%f1(n), system%g1(n), system%work(n))
+         if (allocated(system%f1)) deallocate (system%f1, system%g1)
+         allocate (system%f1(n), system%g1(n))
          do k = 1, size(system%known)
             if (allocated(system%known(k)%values)) deallocate (system%known(k)%values)
          end do
@@ -250,7 +250,6 @@ contains
          end if
          if (needed(si_t_2) .and. .not. self%known_g0) then
             call evaluate_g(problem, t, u0, self%g0, self%counters)
-            self%rhs0 = self%f0 + self%g0
             self%known_g0 = .true.
          end if
          ! values the problem rejected are not kept
@@ -258,7 +257,9 @@ contains
          if (needed(si_t_1)) system%known(si_t_1)%values = u0 + h*self%f0
          if (needed(si_t_2)) then
             system%known(si_t_2)%values = u0 + h*self%f0
-            call system%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, system%known(si_t_2)%values)
+            ! F0 in f1, free until the residual
+            system%f1 = self%f0 + self%g0
+            call system%jac_f0%multiply_add(0.5_dp*h*h, system%f1, system%known(si_t_2)%values)
          end if
          if (needed(si_t_2_paper)) then
             call system%jac0%set_scaled(1.0_dp, system%jac_f0, stat)
@@ -327,12 +328,13 @@ contains
          call evaluate_g(problem, t + h, u1, system%g1, self%counters)
          if (problem%evaluation_rejected()) return
          do i = 1, size(u1)
-            error(i) = (2.0_dp/3.0_dp)*(u1(i) - u0(i) - 0.5_dp*h*(self%rhs0(i) + system%f1(i) + system%g1(i)))
+            error(i) = (2.0_dp/3.0_dp)*(u1(i) - u0(i) - 0.5_dp*h*((self%f0(i) + self%g0(i)) + system%f1(i) + system%g1(i)))
          end do
          if (.not. problem%linear_g) then
-            system%work = u0 - u1
+            ! U0 - U1 in the known part of the step's equation, free after the step
+            system%known(si_t_2)%values = u0 - u1
             error = error + (h/3.0_dp)*(system%g1 - self%g0)
-            call system%jac_g0%multiply_add(h/3.0_dp, system%work, error)
+            call system%jac_g0%multiply_add(h/3.0_dp, system%known(si_t_2)%values, error)
          end if
          call self%newton(si_t_2)%apply_inverse(error, self%counters, stat)
          ! the values at U1 start the next step
@@ -340,7 +342,6 @@ contains
          self%u_start = u1
          self%f0 = system%f1
          self%g0 = system%g1
-         self%rhs0 = self%f0 + self%g0
          self%known_f0 = .true.
          self%known_g0 = .true.
          self%known_jacobians = .false.
@@ -362,8 +363,8 @@ contains
       select case (self%member)
       case (si_t_2)
          call evaluate_f(problem, self%t1, u, self%f1, counters)
-         self%work = self%f1 + self%g1
-         call self%jac_g0%multiply_add(half_h2, self%work, r)
+         self%f1 = self%f1 + self%g1
+         call self%jac_g0%multiply_add(half_h2, self%f1, r)
       case (si_t_2_paper)
          call self%jac0%multiply_add(half_h2, self%g1, r)
       end select
