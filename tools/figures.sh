@@ -107,13 +107,17 @@ run bench --problems "vdp-paper,$small" --schemes si-t-2,i-t-2,imex-rk21,radau5 
   --csv "$out/bench_small.csv" --force > "$out/bench_small.txt"
 run bench --problems "$small" --schemes si-t-2,i-t-2 --tols 1e-3:1e-8 --estimate embedded "${refs[@]}" \
   --csv "$out/bench_embedded.csv" --force > "$out/bench_embedded.txt"
+# si-t-2 with step doubling, beside its default (the estimate of its own step's error)
+run bench --problems "$small,$large" --schemes si-t-2 --tols 1e-3:1e-6 --estimate doubling "${refs[@]}" \
+  --csv "$out/bench_doubling.csv" --force > "$out/bench_doubling.txt"
 run bench --problems "$large" --schemes si-t-2,i-t-2,imex-rk21,radau5 --tols 1e-3:1e-6 "${refs[@]}" \
   --csv "$out/bench_large.csv" --force > "$out/bench_large.txt"
 /usr/bin/env time -v "$app" bench --problems bs100000 --schemes si-t-2 --tols 1e-3:1e-5 --min-time 0.01 "${refs[@]}" \
   --csv "$out/bench_huge.csv" --force > "$out/bench_huge.txt" 2> "$out/bench_huge.time" ||
   run bench --problems bs100000 --schemes si-t-2 --tols 1e-3:1e-5 --min-time 0.01 "${refs[@]}" \
     --csv "$out/bench_huge.csv" --force > "$out/bench_huge.txt"
-ours=("$out/bench_small.csv" "$out/bench_embedded.csv" "$out/bench_large.csv" "$out/bench_huge.csv")
+ours=("$out/bench_small.csv" "$out/bench_embedded.csv" "$out/bench_doubling.csv" "$out/bench_large.csv" \
+  "$out/bench_huge.csv")
 {
   echo "$stamp"
   echo
