@@ -44,7 +44,7 @@ contains
          new_unittest("problem-without-jacobians", test_problem_without_jacobians), &
          new_unittest("van-der-pol-initial-states", test_initial_states), &
          new_unittest("test-set-jacobians", test_test_set_jacobians), &
-         new_unittest("rhs-equals-f-plus-g", test_rhs_equals_parts), &
+         new_unittest("rhs-and-jac-equal-their-parts", test_rhs_equals_parts), &
          new_unittest("unknown-problem", test_unknown_problem), &
          new_unittest("band-jacobians", test_band_jacobians), &
          new_unittest("banded-path-equals-dense", test_banded_path) &
@@ -163,10 +163,11 @@ contains
       end do
    end subroutine test_test_set_jacobians
 
-   !> F from `rhs` is f + g to the last bit, for every problem of the test set (those
-   !> that compute F in one call and those that keep the default), both Van der Pol
-   !> splittings, and a user problem with f and g only; at the initial state and at
-   !> a perturbed one.
+   !> F from `rhs` is f + g and J from `jac` is jac_f + jac_g (and `jac_band`, for a
+   !> banded problem, jac_f_band + jac_g_band) to the last bit, for every problem of the
+   !> test set (those that compute F or J in one call and those that keep the
+   !> defaults), both Van der Pol splittings, and a user problem with f and g only;
+   !> at the initial state and at a perturbed one.
    subroutine test_rhs_equals_parts(error)
       type(error_type), allocatable, intent(out) :: error
       class(test_problem_type), allocatable :: problem
@@ -194,9 +195,14 @@ contains
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: u0(:)
       character(len=*), intent(in) :: label
-      real(dp), allocatable :: u(:), f(:), g(:), whole(:)
-      integer :: which, i
+      real(dp), allocatable :: u(:), f(:), g(:), whole(:), jac(:, :), jac_f(:, :), jac_g(:, :), band(:, :), &
+         band_f(:, :), band_g(:, :)
+      integer :: which, i, lower, upper
       allocate (f(size(u0)), g(size(u0)), whole(size(u0)))
+      allocate (jac(size(u0), size(u0)), jac_f(size(u0), size(u0)), jac_g(size(u0), size(u0)))
+      call problem%bandwidths(size(u0), lower, upper)
+      if (lower >= 0) allocate (band(lower + upper + 1, size(u0)), band_f(lower + upper + 1, size(u0)), &
+         band_g(lower + upper + 1, size(u0)))
       do which = 1, 2
          u = u0
          if (which == 2) u = u0 + 0.01_dp*(1.0_dp + abs(u0))*[(sin(1.3_dp*i), i=1, size(u0))]
@@ -205,6 +211,18 @@ contains
          call problem%rhs(0.3_dp, u, whole)
          call check(error, all(whole == f + g), label//": rhs differs from f + g")
          if (allocated(error)) return
+         call problem%jac_f(0.3_dp, u, jac_f)
+         call problem%jac_g(0.3_dp, u, jac_g)
+         call problem%jac(0.3_dp, u, jac)
+         call check(error, all(jac == jac_f + jac_g), label//": jac differs from jac_f + jac_g")
+         if (allocated(error)) return
+         if (lower >= 0) then
+            call problem%jac_f_band(0.3_dp, u, band_f)
+            call problem%jac_g_band(0.3_dp, u, band_g)
+            call problem%jac_band(0.3_dp, u, band)
+            call check(error, all(band == band_f + band_g), label//": jac_band differs from jac_f_band + jac_g_band")
+            if (allocated(error)) return
+         end if
       end do
    end subroutine compare_rhs
 

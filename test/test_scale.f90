@@ -53,6 +53,8 @@ module test_scale
       real(dp) :: t_bad = huge(1.0_dp)
    contains
       procedure :: g => flaky_g
+      !> F = f + g with this g (Van der Pol's own one-pass rhs would bypass it)
+      procedure :: rhs => flaky_rhs
    end type flaky_vdp_type
 
 contains
@@ -95,6 +97,17 @@ contains
          if (operation == reduce_sum .and. size(values) == 1 .and. self%calls == 1) values(1) = values(1) + 1.0_dp
       end select
    end subroutine two_process_reduce
+
+   !> f + g, g with the member's failure.
+   subroutine flaky_rhs(self, t, u, dudt)
+      class(flaky_vdp_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp) :: g(size(u))
+      call self%f(t, u, dudt)
+      call self%g(t, u, g)
+      dudt = dudt + g
+   end subroutine flaky_rhs
 
    !> g of Van der Pol, then the member's failure after t_bad.
    subroutine flaky_g(self, t, u, dudt)

@@ -51,6 +51,8 @@ module taylorode_problem_ode
       type(difference_workspace_type), private :: differences
       !> g(t, U) for the default `rhs` (allocated at its first call)
       real(dp), allocatable, private :: rhs_work(:)
+      !> dg/dU for the default `jac` and `jac_band` (allocated at their first call)
+      real(dp), allocatable, private :: jacobian_work(:, :)
    contains
       !> Non-stiff part f(t, U)
       procedure(rhs_interface), deferred :: f
@@ -77,6 +79,13 @@ module taylorode_problem_ode
       !> only F (radau5); default: f, then g added. Override it when F costs less in one
       !> call; it must equal f + g
       procedure :: rhs
+      !> The whole Jacobian J = df/dU + dg/dU, for the schemes that use only J (i-t-2,
+      !> radau5); default: jac_f, then jac_g added. Override it when J costs less in one
+      !> call; it must equal jac_f + jac_g
+      procedure :: jac => full_jacobian
+      !> J = df/dU + dg/dU in LAPACK band storage (default: jac_f_band, then jac_g_band
+      !> added); the same contract as `jac`
+      procedure :: jac_band => full_band_jacobian
       !> J_f v, the Jacobian of f times a vector (default: a forward difference of f along v)
       procedure :: jvp_f
       !> J_g v, the Jacobian of g times a vector (default: a forward difference of g along v)
@@ -280,6 +289,39 @@ contains
       end do
    end subroutine rhs
 
+   !> J = df/dU + dg/dU: jac_f, then jac_g into a work array the problem keeps, added.
+   subroutine full_jacobian(self, t, u, jac)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> J(t, u), size(u) x size(u)
+      real(dp), intent(out) :: jac(:, :)
+      call self%jac_f(t, u, jac)
+      call sized_matrix(self%jacobian_work, size(jac, 1), size(jac, 2))
+      call self%jac_g(t, u, self%jacobian_work)
+      jac = jac + self%jacobian_work
+   end subroutine full_jacobian
+
+   !> J = df/dU + dg/dU in band storage: jac_f_band, then jac_g_band into a work
+   !> array the problem keeps, added.
+   subroutine full_band_jacobian(self, t, u, band)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Band storage, (lower + upper + 1) x size(u)
+      real(dp), intent(out) :: band(:, :)
+      call self%jac_f_band(t, u, band)
+      call sized_matrix(self%jacobian_work, size(band, 1), size(band, 2))
+      call self%jac_g_band(t, u, self%jacobian_work)
+      band = band + self%jacobian_work
+   end subroutine full_band_jacobian
+
    !> J_f(t, u) v by a forward difference of f along v (two evaluations of f); problems
    !> with an analytic product override it.
    subroutine jvp_f(self, t, u, v, jv)
@@ -339,6 +381,17 @@ contains
       call sized(workspace%probe, n)
       call sized(workspace%increment, n)
    end subroutine prepare_workspace
+
+   !> A work matrix of rows x columns: allocated again only when its shape differs.
+   pure subroutine sized_matrix(work, rows, columns)
+      real(dp), allocatable, intent(inout) :: work(:, :)
+      integer, intent(in) :: rows, columns
+      if (allocated(work)) then
+         if (size(work, 1) == rows .and. size(work, 2) == columns) return
+         deallocate (work)
+      end if
+      allocate (work(rows, columns))
+   end subroutine sized_matrix
 
    !> A work array of n entries: allocated again only when its size differs.
    pure subroutine sized(work, n)

@@ -15,7 +15,7 @@ module taylorode_schemes_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
    implicit none
    private
 
@@ -29,14 +29,14 @@ module taylorode_schemes_implicit_taylor
       real(dp) :: t1 = 0.0_dp, h = 0.0_dp
       !> State at the start of the step
       real(dp), allocatable :: u0(:)
-      !> f, g and F = f + g at the current iterate
-      real(dp), allocatable :: f1(:), g1(:), rhs1(:)
-      !> Jacobians at the current iterate (jac1 = J_f + J_g)
-      class(matrix_type), allocatable :: jac_g1, jac1
-      !> Whether the i-t-2 Newton matrix has the second-derivative term; the Jacobians
-      !> at U + epsilon F(U) and that point
+      !> F = f + g at the current iterate
+      real(dp), allocatable :: rhs1(:)
+      !> J = J_f + J_g at the current iterate
+      class(matrix_type), allocatable :: jac1
+      !> Whether the i-t-2 Newton matrix has the second-derivative term; J at U +
+      !> epsilon F(U) and that point
       logical :: second_derivatives = .true.
-      class(matrix_type), allocatable :: jac_probe, jac_g_probe
+      class(matrix_type), allocatable :: jac_probe
       real(dp), allocatable :: probe(:)
    contains
       procedure :: residual => implicit_taylor_residual
@@ -103,14 +103,10 @@ contains
       call self%newton(1)%init(n, self%structure, stat)
       call self%newton(2)%init(n, product_structure(self%structure, self%structure), stat)
       associate (system => self%system)
-         if (allocated(system%u0)) deallocate (system%u0, system%f1, system%g1, system%rhs1, system%probe)
-         allocate (system%u0(n), system%f1(n), system%g1(n), system%rhs1(n), system%probe(n))
-         call new_matrix(system%jac_g1, n, self%structure, stat)
+         if (allocated(system%u0)) deallocate (system%u0, system%rhs1, system%probe)
+         allocate (system%u0(n), system%rhs1(n), system%probe(n))
          call new_matrix(system%jac1, n, self%structure, stat)
-         if (self%order == 2) then
-            call new_matrix(system%jac_probe, n, self%structure, stat)
-            call new_matrix(system%jac_g_probe, n, self%structure, stat)
-         end if
+         if (self%order == 2) call new_matrix(system%jac_probe, n, self%structure, stat)
       end associate
       if (stat%code /= status_ok) self%n = 0
    end subroutine implicit_taylor_prepare
@@ -164,14 +160,12 @@ contains
       type(counters_type), intent(inout) :: counters
       integer :: i
 
-      ! f and g called directly (not through evaluate_f, evaluate_g): on small systems
-      ! each layer of calls costs as much as the arithmetic
-      call problem%f(self%t1, u, self%f1)
-      call problem%g(self%t1, u, self%g1)
+      ! F in one call (not through a counting wrapper: on small systems each layer of
+      ! calls costs as much as the arithmetic)
+      call problem%rhs(self%t1, u, self%rhs1)
       counters%f_evaluations = counters%f_evaluations + 1
       counters%g_evaluations = counters%g_evaluations + 1
       do i = 1, size(u)
-         self%rhs1(i) = self%f1(i) + self%g1(i)
          r(i) = u(i) - self%u0(i) - self%h*self%rhs1(i)
       end do
       if (self%order == 2) then
@@ -199,9 +193,7 @@ contains
             ! F''(U)[F] = (J(U + e F) - J(U)) / e, e F of the size of sqrt(eps) |U|
             epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
             self%probe = u + epsilon_f*self%rhs1
-            call evaluate_jac_f(problem, self%t1, self%probe, self%jac_probe, counters)
-            call evaluate_jac_g(problem, self%t1, self%probe, self%jac_g_probe, counters)
-            call self%jac_probe%add_scaled(1.0_dp, self%jac_g_probe, stat)
+            call evaluate_jac(problem, self%t1, self%probe, self%jac_probe, counters)
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
             call matrix%add_scaled(0.5_dp*self%h*self%h/epsilon_f, self%jac_probe, stat)
          end if
@@ -209,16 +201,13 @@ contains
       call matrix%add_identity(1.0_dp)
    end subroutine implicit_taylor_matrix
 
-   !> jac1 = J_f(u) + J_g(u)
+   !> jac1 = J_f(u) + J_g(u), in one call of the problem's `jac`
    subroutine jacobian_at(self, problem, u, counters)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: u(:)
       type(counters_type), intent(inout) :: counters
-      type(status_type) :: stat
-      call evaluate_jac_f(problem, self%t1, u, self%jac1, counters)
-      call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
-      call self%jac1%add_scaled(1.0_dp, self%jac_g1, stat)
+      call evaluate_jac(problem, self%t1, u, self%jac1, counters)
    end subroutine jacobian_at
 
 end module taylorode_schemes_implicit_taylor

@@ -65,7 +65,7 @@ module taylorode_schemes_radau5
    use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -117,8 +117,8 @@ module taylorode_schemes_radau5
 
    !> Radau IIA, order 5, with its order-3 embedded error estimate
    type, extends(scheme_type) :: radau5_type
-      !> Jacobian J = J_f + J_g used by the factorizations, and J_g before it is added
-      class(matrix_type), allocatable :: jac, jac_part
+      !> Jacobian J = J_f + J_g used by the factorizations
+      class(matrix_type), allocatable :: jac
       !> (gamma/h) I - J and its factors (band, or dense above small_lu_max_order)
       type(linear_solver_type) :: real_solver
       !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order
@@ -290,7 +290,6 @@ contains
       type(status_type), intent(inout) :: stat
       if (.not. self%resize(problem, n, stat)) return
       call new_matrix(self%jac, n, self%structure, stat)
-      if (stat%code == status_ok) call new_matrix(self%jac_part, n, self%structure, stat)
       if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
       if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
       if (stat%code /= status_ok) then
@@ -327,13 +326,7 @@ contains
       self%retry_factor = failure_halving
       call begin_step()
       if (.not. self%jacobian_valid) then
-         call evaluate_jac_f(problem, t, u0, self%jac, self%counters)
-         call evaluate_jac_g(problem, t, u0, self%jac_part, self%counters)
-         call self%jac%add_scaled(1.0_dp, self%jac_part, stat)
-         if (stat%code /= status_ok) then
-            u1 = u0
-            return
-         end if
+         call evaluate_jac(problem, t, u0, self%jac, self%counters)
          self%jacobian_valid = .true.
          self%jacobian_fresh = .true.
          self%factored = .false.

@@ -22,7 +22,7 @@ module taylorode_schemes_scheme
    private
 
    public :: scheme_type, default_newton_settings, default_newton_fraction, stability_quotient
-   public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g
+   public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g, evaluate_jac
 
    !> Fraction of the error weights below which Newton increments must fall with the
    !> paper's Newton test, for schemes that take the integrator's default
@@ -449,6 +449,29 @@ contains
       end select
       counters%jac_f_evaluations = counters%jac_f_evaluations + 1
    end subroutine evaluate_jac_f
+
+   !> Counted evaluation of J = df/dU + dg/dU in one call (the problem's `jac`, or
+   !> `jac_band`), dense or in band storage; it counts as one evaluation of each.
+   subroutine evaluate_jac(problem, t, u, jac, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> J at (t, u), in the storage the problem declared
+      class(matrix_type), intent(inout) :: jac
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      select type (jac)
+      type is (dense_matrix_type)
+         call problem%jac(t, u, jac%a)
+      type is (band_matrix_type)
+         call problem%jac_band(t, u, jac%ab(jac%fill + 1:, :))
+      end select
+      counters%jac_f_evaluations = counters%jac_f_evaluations + 1
+      counters%jac_g_evaluations = counters%jac_g_evaluations + 1
+   end subroutine evaluate_jac
 
    !> Counted evaluation of dg/dU, dense or in band storage.
    subroutine evaluate_jac_g(problem, t, u, jac, counters)

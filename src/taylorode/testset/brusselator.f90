@@ -31,6 +31,8 @@ module taylorode_testset_brusselator
       procedure :: jacobian_structure => brusselator_structure
       procedure :: jac_f_band => brusselator_jac_f_band
       procedure :: jac_g_band => brusselator_jac_g_band
+      !> df/dU + dg/dU in band storage in one pass
+      procedure :: jac_band => brusselator_jac_band
    end type brusselator_type
 
 contains
@@ -168,5 +170,21 @@ contains
          if (j <= size(u) - 2) band(5, j) = c
       end do
    end subroutine brusselator_jac_g_band
+
+   !> J = df/dU + dg/dU in band storage: the diffusion, then each point's reaction block added.
+   subroutine brusselator_jac_band(self, t, u, band)
+      class(brusselator_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: band(:, :)
+      integer :: i
+      call self%jac_g_band(t, u, band)
+      do i = 1, self%points
+         band(3, 2*i - 1) = band(3, 2*i - 1) + (2.0_dp*u(2*i - 1)*u(2*i) - 4.0_dp)
+         band(4, 2*i - 1) = band(4, 2*i - 1) + (3.0_dp - 2.0_dp*u(2*i - 1)*u(2*i))
+         band(2, 2*i) = band(2, 2*i) + u(2*i - 1)**2
+         band(3, 2*i) = band(3, 2*i) + (-u(2*i - 1)**2)
+      end do
+   end subroutine brusselator_jac_band
 
 end module taylorode_testset_brusselator

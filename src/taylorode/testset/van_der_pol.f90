@@ -44,6 +44,8 @@ module taylorode_testset_van_der_pol
       procedure :: jac_f => vdp_jac_f
       !> dg/dU, analytic
       procedure :: jac_g => vdp_jac_g
+      !> J = df/dU + dg/dU in one pass (either splitting)
+      procedure :: jac => vdp_jac
    end type van_der_pol_type
 
 contains
@@ -143,5 +145,16 @@ contains
       jac(2, 2) = self%mu*(1.0_dp - u(1)**2)
       if (self%splitting == vdp_split_stiff) jac(2, 1) = jac(2, 1) - 1.0_dp
    end subroutine vdp_jac_g
+
+   subroutine vdp_jac(self, t, u, jac)
+      class(van_der_pol_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = 0.0_dp
+      jac(1, 2) = 1.0_dp
+      jac(2, 1) = -2.0_dp*self%mu*u(1)*u(2) - 1.0_dp
+      jac(2, 2) = self%mu*(1.0_dp - u(1)**2)
+   end subroutine vdp_jac
 
 end module taylorode_testset_van_der_pol
