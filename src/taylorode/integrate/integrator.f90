@@ -54,8 +54,6 @@ module taylorode_integrate_integrator
       !> The last accepted step (states and derivatives at both ends), kept when dense
       !> output, events or an observer need it
       type(accepted_step_type) :: step
-      !> Work space for F = f + g
-      real(dp), allocatable, private :: scratch(:)
    contains
       !> Check everything and prepare the scheme at (t0, u0)
       procedure :: init
@@ -182,8 +180,6 @@ contains
       self%scheme_name = scheme%name
       call scheme%restart()
       call self%stepper%start(self%n, scheme, options)
-      if (allocated(self%scratch)) deallocate (self%scratch)
-      allocate (self%scratch(self%n))
 
       self%h = options%h0
       if (self%h == 0.0_dp) then
@@ -248,7 +244,7 @@ contains
       real(dp), intent(out) :: rhs(:)
       type(status_type), intent(inout) :: stat
       call problem%clear_rejection()
-      call evaluate_rhs(problem, t, u, rhs, self%scratch, scheme%counters)
+      call evaluate_rhs(problem, t, u, rhs, scheme%counters)
       if (problem%evaluation_rejected()) then
          call set_status(stat, status_evaluation_failed, "integrate: the problem cannot evaluate f or g at the "// &
             "initial state")
@@ -512,10 +508,9 @@ contains
             step%u_end = self%stepper%u_new
             call scheme%dense_output(t, h, step%u_end, step%nodes, step%coefficients, step%degree)
             if (step%degree == 0) then
-               if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, self%scratch, &
-                  scheme%counters)
+               if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, scheme%counters)
                step%rhs_start = step%rhs_end
-               call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, self%scratch, scheme%counters)
+               call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, scheme%counters)
                call step%set_hermite()
                rhs_pending = .false.
             else

@@ -406,8 +406,8 @@ contains
       counters%g_evaluations = counters%g_evaluations + 1
    end subroutine evaluate_g
 
-   !> Counted evaluation of F = f + g, with `scratch` (size of u) as work space.
-   subroutine evaluate_rhs(problem, t, u, value, scratch, counters)
+   !> Counted evaluation of F = f + g in one call of the problem's `rhs`.
+   subroutine evaluate_rhs(problem, t, u, value, counters)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Time
@@ -416,17 +416,11 @@ contains
       real(dp), intent(in) :: u(:)
       !> F(t, u)
       real(dp), intent(out) :: value(:)
-      !> Work space, overwritten
-      real(dp), intent(out) :: scratch(:)
       !> Work counters
       type(counters_type), intent(inout) :: counters
-      ! the parts called directly (not through evaluate_f, evaluate_g): on small
-      ! systems each layer of calls costs as much as the arithmetic
-      call problem%f(t, u, value)
-      call problem%g(t, u, scratch)
+      call problem%rhs(t, u, value)
       counters%f_evaluations = counters%f_evaluations + 1
       counters%g_evaluations = counters%g_evaluations + 1
-      value = value + scratch
    end subroutine evaluate_rhs
 
    !> Counted evaluation of df/dU, dense or in band storage.
