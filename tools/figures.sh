@@ -88,8 +88,9 @@ fi
 # ---------------------------------------------------------------- performance
 # taylorode's bench on the peer harness's problems; with PEERS=<the peer harness's
 # folder> (its sundials_bench built, its refs/) the peers run on the same problems in
-# this same run, their references are used, report.py draws everyone's work-precision
-# curves and tools/ratios.py the CPU ratios at equal error. FLOOR=<it2_vdp.c> adds
+# this same run, their references are used, tools/plot.py draws everyone's work-precision
+# curves (the harness's report.py reads the same files into out/report) and
+# tools/ratios.py the CPU ratios at equal error. FLOOR=<it2_vdp.c> adds
 # the per-step comparison with the hand-coded floor.
 peers="${PEERS:-}"
 refs=()
@@ -137,9 +138,9 @@ if [ -n "$peers" ]; then
     -r "$peers/refs" > "$out/peers_large.csv"
   /usr/bin/env time -v "$peers/sundials_bench" bench -p bs100000 -s cvode_bdf -t 1e-4 -m 0.01 -r "$peers/refs" \
     > /dev/null 2> "$out/peers_huge.time" || true
+  # the harness's own report reads the same CSV files (out/report); the README's figures
+  # beside the peers come from tools/plot.py below, which tells the peers from the schemes
   "$python" "$peers/report.py" -o "$out/report" "$out/peers_small.csv" "$out/peers_large.csv" "${ours[@]}" >/dev/null
-  cp "$out/report/work_precision_vdp.png" "$png/peers_work_precision_vdp.png"
-  cp "$out/report/work_precision_all.png" "$png/peers_work_precision_all.png"
   {
     echo "$stamp"
     echo

@@ -12,6 +12,11 @@ sweep` and s1_regions.csv of `taylorode stability`. Each figure answers one ques
   vdp_step_size.png   which step sizes does each scheme take, and where does it reject?
   work_precision.png  which scheme reaches a given error in the least CPU time?
   s1_regions.png      for which z = h lambda is every scheme stable whatever the stiff part?
+  peers_work_precision_vdp.png, peers_work_precision_all.png
+                      CPU time against error beside CVODE and ARKODE on the peer harness's
+                      problems, from the CSV files of `taylorode bench --csv` and the
+                      harness (peers_*.csv, bench_*.csv): the peers in grey, each scheme in
+                      its colour, its other error estimates dotted with open markers
 """
 import csv
 import math
@@ -23,6 +28,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import ticker  # noqa: E402
 
 DPI = 150
 # one look per scheme, the same in every figure: colour, line style, marker
@@ -188,6 +194,110 @@ def work_precision_figure(csv_dir, png_dir):
     plt.close(fig)
 
 
+# the peer solvers, in shades of grey and wide; the harness's error measure per problem
+PEER_STYLES = {"cvode_bdf": ("#8c8c8c", "-", "o"), "ark_imex3": ("#c8c8c8", "-", "s")}
+PEER_LABELS = {"cvode_bdf": "CVODE (BDF)", "ark_imex3": "ARKODE (IMEX, order 3)"}
+PEER_ERROR = {"e5": "err_grid"}
+
+
+def peer_rows(csv_dir):
+    """Rows of every peers_*.csv and bench_*.csv in csv_dir that finished ("ok")."""
+    rows = []
+    for file in sorted(os.listdir(csv_dir)):
+        if re.fullmatch(r"(peers|bench)_.+\.csv", file):
+            rows += [r for r in read_rows(os.path.join(csv_dir, file)) if (r.get("status") or "ok") == "ok"]
+    return rows
+
+
+def solver_style(solver):
+    """(colour, line, marker, filled, width) of a peer or of taylorode_<scheme>[_<estimate>]:
+    a scheme's default solid with filled markers, its other error estimates dotted with
+    open ones."""
+    if solver in PEER_STYLES:
+        return PEER_STYLES[solver] + (True, 3.0)
+    colour, _, marker = style(solver_style_name(solver))
+    if solver_style_name(solver) != solver.removeprefix("taylorode_"):
+        return colour, ":", marker, False, 1.1
+    return colour, "-", marker, True, 1.4
+
+
+def draw_peer_series(axis, rows, problem, solvers):
+    key = PEER_ERROR.get(problem, "err_end")
+    for solver in solvers:
+        points = []
+        for r in rows:
+            if r["problem"] != problem or r["solver"] != solver:
+                continue
+            try:
+                cpu, err = float(r["cpu_s"]), float(r[key])
+            except (TypeError, ValueError):
+                continue
+            if cpu > 0 and err > 0 and math.isfinite(cpu) and math.isfinite(err):
+                points.append((cpu, err))
+        if not points:
+            continue
+        points.sort()
+        colour, line, marker, filled, width = solver_style(solver)
+        cpu, err = zip(*points)
+        axis.loglog(cpu, err, color=colour, ls=line, marker=marker, ms=4, lw=width,
+                    mfc=colour if filled else "none",
+                    label=PEER_LABELS.get(solver, solver.removeprefix("taylorode_")))
+    axis.grid(True, which="both", lw=0.3)
+    axis.xaxis.set_minor_formatter(ticker.NullFormatter())
+
+
+def peers_figures(csv_dir, png_dir):
+    rows = peer_rows(csv_dir)
+    if not any(r["solver"] in PEER_STYLES for r in rows):
+        return
+    solvers = [s for s in PEER_STYLES if any(r["solver"] == s for r in rows)]
+    ours = sorted({r["solver"] for r in rows if r["solver"] not in PEER_STYLES},
+                  key=lambda s: (ORDER.index(solver_style_name(s)) if solver_style_name(s) in ORDER else len(ORDER), s))
+    solvers += ours
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.2))
+    for axis, problem, start in zip(axes, ("vdp1e3_wp", "vdp1e3_up"), ("prepared", "unprepared")):
+        draw_peer_series(axis, rows, problem, solvers)
+        axis.set_title(f"Van der Pol mu = 1e3, {start} start: error at t = 3000", fontsize=10)
+        axis.set_xlabel("CPU seconds per solve")
+    axes[0].set_ylabel("max-norm error")
+    axes[0].legend(fontsize=8, ncol=2)
+    fig.suptitle("Work-precision beside CVODE and ARKODE (wide grey lines), rtol = atol = tol from 1e-3 "
+                 "to 1e-8; each scheme with its default error estimate (solid) and others (dotted)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(png_dir, "peers_work_precision_vdp.png"), dpi=110)
+    plt.close(fig)
+
+    problems = list(dict.fromkeys(r["problem"] for r in rows if r["problem"] != "vdp-paper"))
+    columns = 4
+    lines = math.ceil(len(problems) / columns)
+    fig, axes = plt.subplots(lines, columns, figsize=(4.3 * columns, 3.5 * lines + 0.8), squeeze=False)
+    for k, axis in enumerate(axes.flat):
+        if k >= len(problems):
+            axis.set_visible(False)
+            continue
+        draw_peer_series(axis, rows, problems[k], solvers)
+        axis.set_title(f"{problems[k]} ({PEER_ERROR.get(problems[k], 'err_end')})", fontsize=9)
+        axis.tick_params(labelsize=7)
+    handles, labels = {}, {}
+    for axis in axes.flat:
+        for handle, label in zip(*axis.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=min(len(handles), 6), fontsize=8)
+    fig.supxlabel("CPU seconds per solve", y=0.06)
+    fig.supylabel("error (the harness's measure)")
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.savefig(os.path.join(png_dir, "peers_work_precision_all.png"), dpi=90)
+    plt.close(fig)
+
+
+def solver_style_name(solver):
+    """The scheme a taylorode_<scheme>[_<estimate>] solver runs."""
+    name = solver.removeprefix("taylorode_")
+    for estimate in ("_embedded", "_doubling", "_defect"):
+        name = name.removesuffix(estimate)
+    return name
+
+
 def stability_figure(csv_dir, png_dir):
     path = os.path.join(csv_dir, "s1_regions.csv")
     if not os.path.exists(path):
@@ -246,6 +356,7 @@ def main():
         van_der_pol_step_sizes(data, png_dir)
     work_precision_figure(csv_dir, png_dir)
     stability_figure(csv_dir, png_dir)
+    peers_figures(csv_dir, png_dir)
 
 
 if __name__ == "__main__":
