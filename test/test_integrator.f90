@@ -495,6 +495,10 @@ contains
          t_out=[0.5_dp, 1.0_dp], u_out=u_out)
       call check(error, stat%code, status_size_mismatch, "u_out shape")
       if (allocated(error)) return
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat, t_out=[0.5_dp, 1.0_dp])
+      call check(error, stat%code == status_invalid_argument .and. index(stat%message, "go together") > 0, &
+         "t_out without u_out: "//stat_message(stat))
+      if (allocated(error)) return
       call check(error, all(u == [2.0_dp, 0.0_dp]), "rejected input must leave u alone")
    contains
       subroutine expect(code, word)

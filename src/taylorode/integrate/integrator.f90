@@ -30,6 +30,8 @@ module taylorode_integrate_integrator
    !> Steps shorter than this many roundoffs of t cannot advance t reliably (the fast
    !> layers of Van der Pol with mu = 1e6 need steps of ~17 roundoffs of t)
    real(dp), parameter :: roundoff_steps = 2.0_dp
+   !> What a call with only one of t_out and u_out is told
+   character(len=*), parameter :: outputs_together = "integrate: t_out and u_out go together"
 
    !> An integration that can be continued: `init` once, then `advance_to` as often as
    !> needed with the same problem type and scheme. Between calls the caller may
@@ -117,13 +119,24 @@ contains
             "(backward integration is not supported: substitute s = -t)")
          return
       end if
+      if (present(t_out) .neqv. present(u_out)) then
+         call set_status(stat, status_invalid_argument, outputs_together)
+         return
+      end if
       call integrator%init(problem, scheme, t0, u, options, stat)
       if (stat%code /= status_ok) then
          stats = integrator%total
          stats%t_reached = t0
          return
       end if
-      call integrator%advance_to(problem, scheme, t_end, u, stat, stats, history, t_out, u_out, observer, events)
+      ! output arrays are passed on only when given: gfortran builds a descriptor for an
+      ! assumed-shape array it passes on, from the strides of an absent one too (arithmetic
+      ! on undefined values, which UBSan reports)
+      if (present(t_out)) then
+         call integrator%advance_to(problem, scheme, t_end, u, stat, stats, history, t_out, u_out, observer, events)
+      else
+         call integrator%advance_to(problem, scheme, t_end, u, stat, stats, history, observer=observer, events=events)
+      end if
       ! the work of init (F at t0 for the first step size) belongs to this integration
       stats%work = integrator%total%work
    end subroutine integrate
@@ -462,7 +475,7 @@ contains
             return
          end if
          if (present(t_out) .neqv. present(u_out)) then
-            call set_status(stat, status_invalid_argument, "integrate: t_out and u_out go together")
+            call set_status(stat, status_invalid_argument, outputs_together)
             return
          end if
          if (present(t_out)) then
