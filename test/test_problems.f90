@@ -8,7 +8,8 @@ module test_problems
    use test_support, only: differenced_brusselator
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
       linear_test_type, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, new_test_problem, &
-      test_problem_names, test_problem_count, brusselator_type, new_brusselator
+      test_problem_names, test_problem_count, brusselator_type, new_brusselator, orego_type, new_orego, &
+      orego_split_bilinear_stiff
    implicit none
    private
 
@@ -166,12 +167,13 @@ contains
    !> F from `rhs` is f + g and J from `jac` is jac_f + jac_g (and `jac_band`, for a
    !> banded problem, jac_f_band + jac_g_band) to the last bit, for every problem of the
    !> test set (those that compute F or J in one call and those that keep the
-   !> defaults), both Van der Pol splittings, and a user problem with f and g only;
+   !> defaults), both Van der Pol and OREGO splittings, and a user problem with f and g only;
    !> at the initial state and at a perturbed one.
    subroutine test_rhs_equals_parts(error)
       type(error_type), allocatable, intent(out) :: error
       class(test_problem_type), allocatable :: problem
       type(van_der_pol_type) :: stiff_split
+      type(orego_type) :: bilinear
       type(vdp_without_jacobians) :: user
       type(status_type) :: stat
       integer :: k
@@ -185,6 +187,9 @@ contains
       end do
       stiff_split = new_van_der_pol(1000.0_dp, vdp_split_stiff)
       call compare_rhs(error, stiff_split, stiff_split%u0, "van der pol, stiff splitting")
+      if (allocated(error)) return
+      bilinear = new_orego(orego_split_bilinear_stiff)
+      call compare_rhs(error, bilinear, bilinear%u0, "orego, bilinear terms stiff")
       if (allocated(error)) return
       user%mu = 5.0_dp
       call compare_rhs(error, user, [2.0_dp, -0.5_dp], "a problem with the default rhs")

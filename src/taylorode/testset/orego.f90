@@ -30,6 +30,10 @@ module taylorode_testset_orego
       procedure :: jac_f => orego_jac_f
       !> dg/dU, analytic
       procedure :: jac_g => orego_jac_g
+      !> F = f + g in one pass (either split)
+      procedure :: rhs => orego_rhs
+      !> J = df/dU + dg/dU in one pass (either split)
+      procedure :: jac => orego_jac
    end type orego_type
 
 contains
@@ -111,5 +115,44 @@ contains
          jac(2, 3) = 1.0_dp/self%s
       end if
    end subroutine orego_jac_g
+
+   !> f + g, each part as orego_f and orego_g compute it (a part that is zero is left out).
+   subroutine orego_rhs(self, t, u, dudt)
+      class(orego_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      if (self%split == orego_split_bilinear_stiff) then
+         dudt(1) = -self%s*self%q*u(1)**2 + self%s*(u(2) + u(1) - u(1)*u(2))
+         dudt(2) = (u(3) - u(2))/self%s + (-u(1)*u(2)/self%s)
+      else
+         dudt(1) = self%s*(u(2) - u(1)*u(2) + u(1) - self%q*u(1)**2)
+         dudt(2) = (-u(2) - u(1)*u(2) + u(3))/self%s
+      end if
+      dudt(3) = self%w*(u(1) - u(3))
+   end subroutine orego_rhs
+
+   !> df/dU + dg/dU, each part as orego_jac_f and orego_jac_g compute it.
+   subroutine orego_jac(self, t, u, jac)
+      class(orego_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 2) = self%s*(1.0_dp - u(1))
+      jac(1, 3) = 0.0_dp
+      jac(2, 1) = -u(2)/self%s
+      jac(3, 1) = self%w
+      jac(3, 2) = 0.0_dp
+      jac(3, 3) = -self%w
+      if (self%split == orego_split_bilinear_stiff) then
+         jac(1, 1) = -2.0_dp*self%s*self%q*u(1) + self%s*(1.0_dp - u(2))
+         jac(2, 2) = -1.0_dp/self%s + (-u(1)/self%s)
+         jac(2, 3) = 1.0_dp/self%s
+      else
+         jac(1, 1) = self%s*(1.0_dp - u(2) - 2.0_dp*self%q*u(1))
+         jac(2, 2) = -(1.0_dp + u(1))/self%s
+         jac(2, 3) = 1.0_dp/self%s
+      end if
+   end subroutine orego_jac
 
 end module taylorode_testset_orego

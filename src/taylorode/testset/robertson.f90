@@ -22,6 +22,10 @@ module taylorode_testset_robertson
       procedure :: jac_f => robertson_jac_f
       !> dg/dU, analytic
       procedure :: jac_g => robertson_jac_g
+      !> F = f + g in one pass
+      procedure :: rhs => robertson_rhs
+      !> J = df/dU + dg/dU in one pass
+      procedure :: jac => robertson_jac
    end type robertson_type
 
 contains
@@ -88,5 +92,37 @@ contains
       jac(2, 2) = -jac(1, 2) - jac(3, 2)
       jac(2, 3) = -jac(1, 3)
    end subroutine robertson_jac_g
+
+   !> f + g, each part as robertson_f and robertson_g compute it.
+   subroutine robertson_rhs(self, t, u, dudt)
+      class(robertson_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp) :: slow, fast_1, fast_3
+      slow = self%k1*u(1)
+      fast_1 = self%k3*u(2)*u(3)
+      fast_3 = self%k2*u(2)**2
+      dudt(1) = -slow + fast_1
+      dudt(2) = slow + (-fast_1 - fast_3)
+      dudt(3) = fast_3
+   end subroutine robertson_rhs
+
+   !> df/dU + dg/dU, each part as robertson_jac_f and robertson_jac_g compute it.
+   subroutine robertson_jac(self, t, u, jac)
+      class(robertson_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = -self%k1
+      jac(2, 1) = self%k1
+      jac(3, 1) = 0.0_dp
+      jac(1, 2) = self%k3*u(3)
+      jac(1, 3) = self%k3*u(2)
+      jac(3, 2) = 2.0_dp*self%k2*u(2)
+      jac(2, 2) = -jac(1, 2) - jac(3, 2)
+      jac(2, 3) = -jac(1, 3)
+      jac(3, 3) = 0.0_dp
+   end subroutine robertson_jac
 
 end module taylorode_testset_robertson
