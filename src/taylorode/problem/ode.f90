@@ -25,6 +25,11 @@ module taylorode_problem_ode
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
    public :: reduce_sum, reduce_max, sized
 
+   !> A work array allocated again only when its shape differs (vector or matrix)
+   interface sized
+      module procedure sized_vector, sized_matrix
+   end interface sized
+
    !> `reduce` operation: the sum over the processes
    integer, parameter :: reduce_sum = 1
    !> `reduce` operation: the maximum over the processes
@@ -300,7 +305,7 @@ contains
       !> J(t, u), size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
       call self%jac_f(t, u, jac)
-      call sized_matrix(self%jacobian_work, size(jac, 1), size(jac, 2))
+      call sized(self%jacobian_work, size(jac, 1), size(jac, 2))
       call self%jac_g(t, u, self%jacobian_work)
       jac = jac + self%jacobian_work
    end subroutine full_jacobian
@@ -317,7 +322,7 @@ contains
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
       call self%jac_f_band(t, u, band)
-      call sized_matrix(self%jacobian_work, size(band, 1), size(band, 2))
+      call sized(self%jacobian_work, size(band, 1), size(band, 2))
       call self%jac_g_band(t, u, self%jacobian_work)
       band = band + self%jacobian_work
    end subroutine full_band_jacobian
@@ -384,7 +389,9 @@ contains
 
    !> A work matrix of rows x columns: allocated again only when its shape differs.
    pure subroutine sized_matrix(work, rows, columns)
+      !> The work matrix
       real(dp), allocatable, intent(inout) :: work(:, :)
+      !> Its shape
       integer, intent(in) :: rows, columns
       if (allocated(work)) then
          if (size(work, 1) == rows .and. size(work, 2) == columns) return
@@ -394,7 +401,7 @@ contains
    end subroutine sized_matrix
 
    !> A work array of n entries: allocated again only when its size differs.
-   pure subroutine sized(work, n)
+   pure subroutine sized_vector(work, n)
       !> The work array
       real(dp), allocatable, intent(inout) :: work(:)
       !> Its size
@@ -404,7 +411,7 @@ contains
          deallocate (work)
       end if
       allocate (work(n))
-   end subroutine sized
+   end subroutine sized_vector
 
    !> Grouped forward differences of f (`of_f`) or g into band storage: the columns
    !> j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The band

@@ -32,7 +32,7 @@ module taylorode_testset_orego
       procedure :: jac_g => orego_jac_g
       !> F = f + g in one pass (either split)
       procedure :: rhs => orego_rhs
-      !> J = df/dU + dg/dU in one pass (either split)
+      !> J = df/dU + dg/dU in one call: dg/dU with the nonzeros of df/dU added
       procedure :: jac => orego_jac
    end type orego_type
 
@@ -132,27 +132,20 @@ contains
       dudt(3) = self%w*(u(1) - u(3))
    end subroutine orego_rhs
 
-   !> df/dU + dg/dU, each part as orego_jac_f and orego_jac_g compute it.
+   !> df/dU + dg/dU: dg/dU, with df/dU's nonzeros added (either split).
    subroutine orego_jac(self, t, u, jac)
       class(orego_type), intent(inout) :: self
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      jac(1, 2) = self%s*(1.0_dp - u(1))
-      jac(1, 3) = 0.0_dp
-      jac(2, 1) = -u(2)/self%s
-      jac(3, 1) = self%w
-      jac(3, 2) = 0.0_dp
-      jac(3, 3) = -self%w
+      call self%jac_g(t, u, jac)
       if (self%split == orego_split_bilinear_stiff) then
-         jac(1, 1) = -2.0_dp*self%s*self%q*u(1) + self%s*(1.0_dp - u(2))
-         jac(2, 2) = -1.0_dp/self%s + (-u(1)/self%s)
-         jac(2, 3) = 1.0_dp/self%s
-      else
-         jac(1, 1) = self%s*(1.0_dp - u(2) - 2.0_dp*self%q*u(1))
-         jac(2, 2) = -(1.0_dp + u(1))/self%s
-         jac(2, 3) = 1.0_dp/self%s
+         jac(1, 1) = jac(1, 1) + (-2.0_dp*self%s*self%q*u(1))
+         jac(2, 2) = jac(2, 2) + (-1.0_dp/self%s)
+         jac(2, 3) = jac(2, 3) + 1.0_dp/self%s
       end if
+      jac(3, 1) = jac(3, 1) + self%w
+      jac(3, 3) = jac(3, 3) - self%w
    end subroutine orego_jac
 
 end module taylorode_testset_orego

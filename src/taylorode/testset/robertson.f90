@@ -24,7 +24,7 @@ module taylorode_testset_robertson
       procedure :: jac_g => robertson_jac_g
       !> F = f + g in one pass
       procedure :: rhs => robertson_rhs
-      !> J = df/dU + dg/dU in one pass
+      !> J = df/dU + dg/dU in one call: dg/dU with the nonzeros of df/dU added
       procedure :: jac => robertson_jac
    end type robertson_type
 
@@ -108,21 +108,15 @@ contains
       dudt(3) = fast_3
    end subroutine robertson_rhs
 
-   !> df/dU + dg/dU, each part as robertson_jac_f and robertson_jac_g compute it.
+   !> df/dU + dg/dU: dg/dU, with df/dU's two nonzeros added.
    subroutine robertson_jac(self, t, u, jac)
       class(robertson_type), intent(inout) :: self
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      jac(1, 1) = -self%k1
-      jac(2, 1) = self%k1
-      jac(3, 1) = 0.0_dp
-      jac(1, 2) = self%k3*u(3)
-      jac(1, 3) = self%k3*u(2)
-      jac(3, 2) = 2.0_dp*self%k2*u(2)
-      jac(2, 2) = -jac(1, 2) - jac(3, 2)
-      jac(2, 3) = -jac(1, 3)
-      jac(3, 3) = 0.0_dp
+      call self%jac_g(t, u, jac)
+      jac(1, 1) = jac(1, 1) - self%k1
+      jac(2, 1) = jac(2, 1) + self%k1
    end subroutine robertson_jac
 
 end module taylorode_testset_robertson
