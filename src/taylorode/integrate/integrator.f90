@@ -164,6 +164,8 @@ contains
       real(dp) :: size_u, size_f
 
       self%ready = .false.
+      ! the last accepted step of an earlier integration does not precede the first of this one
+      self%step%degree = 0
       self%total = integration_stats_type()
       self%total%t_reached = t0
       self%t = t0
@@ -322,8 +324,9 @@ contains
       if (stat%code == status_ok .and. present(history)) &
          call history%start(merge(self%n, 0, self%options%history_states), stat)
       ! F at the start, for the cubic Hermite interpolant of the first step (a scheme
-      ! with its own dense output needs it only when it has none for a step)
-      rhs_pending = scheme%dense_degree > 0
+      ! with its own dense output, or an implicit one, needs it only when a step has
+      ! no dense output of its own and no step before it)
+      rhs_pending = scheme%dense_degree > 0 .or. scheme%implicit
       if (stat%code == status_ok .and. need_step) then
          call self%step%reserve(self%n, scheme%dense_degree)
          if (.not. rhs_pending) call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
@@ -499,11 +502,13 @@ contains
       end subroutine check_call
 
       !> The accepted step [t, t_end_of_step] into self%step with its dense output (the
-      !> scheme's own, else the cubic Hermite interpolant from F at both ends), then
+      !> scheme's own; else for an implicit scheme the quadratic through the states of
+      !> this step and the one before, for an explicit one the cubic Hermite interpolant
+      !> from F at both ends), then
       !> events (a terminal crossing shortens it), dense output and the observer.
       subroutine accept_into_step(t_end_of_step)
          real(dp), intent(in) :: t_end_of_step
-         logical :: stop_requested, output_due
+         logical :: stop_requested, output_due, before_known
          if (scheme%dense_degree > 0 .and. .not. (present(events) .or. present(observer))) then
             ! only output times look at the step: without one inside it, nothing is needed
             output_due = next_output <= size(t_out)
@@ -514,13 +519,24 @@ contains
             end if
          end if
          associate (step => self%step)
+            ! the step before this one, when this one continues it
+            before_known = step%degree > 0 .and. step%t_end == t
+            if (before_known) before_known = all(step%u_end == u)
+            if (before_known) then
+               step%t_before = step%t_start
+               step%u_before = step%u_start
+            end if
             step%t_start = t
             step%h = h
             step%t_end = t_end_of_step
             step%u_start = u
             step%u_end = self%stepper%u_new
             call scheme%dense_output(t, h, step%u_end, step%nodes, step%coefficients, step%degree)
-            if (step%degree == 0) then
+            if (step%degree == 0 .and. scheme%implicit) then
+               if (.not. before_known) call evaluate_rhs(problem, t, step%u_start, step%rhs_start, scheme%counters)
+               call step%set_quadratic(before_known)
+               rhs_pending = .true.
+            else if (step%degree == 0) then
                if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, scheme%counters)
                step%rhs_start = step%rhs_end
                call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, scheme%counters)
