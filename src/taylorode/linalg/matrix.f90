@@ -13,7 +13,7 @@ module taylorode_linalg_matrix
    private
 
    public :: matrix_structure_type, dense_structure, band_structure, storage_dense, storage_band
-   public :: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, product_structure
+   public :: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, stacked_structure
 
    !> Every entry stored (n x n)
    integer, parameter :: storage_dense = 1
@@ -47,10 +47,10 @@ module taylorode_linalg_matrix
       procedure(zero_interface), deferred :: set_zero
       !> A = A + alpha B
       procedure(scaled_interface), deferred :: add_scaled
-      !> A = A + alpha B C
-      procedure(product_interface), deferred :: add_product
       !> A = A + alpha I
       procedure(identity_interface), deferred :: add_identity
+      !> Block (r, c) of A, of order 2 n_B, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
+      procedure(block_interface), deferred :: add_block
       !> A = alpha B
       procedure, non_overridable :: set_scaled
    end type matrix_type
@@ -68,10 +68,10 @@ module taylorode_linalg_matrix
       procedure :: set_zero => dense_set_zero
       !> A = A + alpha B
       procedure :: add_scaled => dense_add_scaled
-      !> A = A + alpha B C
-      procedure :: add_product => dense_add_product
       !> A = A + alpha I
       procedure :: add_identity => dense_add_identity
+      !> Block (r, c) of A, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
+      procedure :: add_block => dense_add_block
    end type dense_matrix_type
 
    !> Band storage: A(i, j) in ab(diagonal + i - j, j) for max(1, j - ku) <= i <=
@@ -96,10 +96,10 @@ module taylorode_linalg_matrix
       procedure :: set_zero => band_set_zero
       !> A = A + alpha B
       procedure :: add_scaled => band_add_scaled
-      !> A = A + alpha B C
-      procedure :: add_product => band_add_product
       !> A = A + alpha I
       procedure :: add_identity => band_add_identity
+      !> Block (r, c) of A, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
+      procedure :: add_block => band_add_block
    end type band_matrix_type
 
    abstract interface
@@ -126,18 +126,19 @@ module taylorode_linalg_matrix
          class(matrix_type), intent(in) :: b
          type(status_type), intent(inout) :: stat
       end subroutine scaled_interface
-      subroutine product_interface(self, alpha, b, c, stat)
-         import :: matrix_type, dp, status_type
-         class(matrix_type), intent(inout) :: self
-         real(dp), intent(in) :: alpha
-         class(matrix_type), intent(in) :: b, c
-         type(status_type), intent(inout) :: stat
-      end subroutine product_interface
       subroutine identity_interface(self, alpha)
          import :: matrix_type, dp
          class(matrix_type), intent(inout) :: self
          real(dp), intent(in) :: alpha
       end subroutine identity_interface
+      subroutine block_interface(self, alpha, b, row_block, column_block, stat)
+         import :: matrix_type, dp, status_type
+         class(matrix_type), intent(inout) :: self
+         real(dp), intent(in) :: alpha
+         class(matrix_type), intent(in) :: b
+         integer, intent(in) :: row_block, column_block
+         type(status_type), intent(inout) :: stat
+      end subroutine block_interface
    end interface
 
 contains
@@ -160,17 +161,19 @@ contains
       structure%upper = upper
    end function band_structure
 
-   !> Structure of a sum of products of matrices with structures a and b (bandwidths add).
-   pure function product_structure(a, b) result(structure)
-      !> Structures of the factors
-      type(matrix_structure_type), intent(in) :: a, b
+   !> Structure of the stacked 2 x 2 block matrix [[A, B], [C, D]] of order 2n whose blocks
+   !> have structure `block`, rows and columns interleaved (unknown i of the first
+   !> block at 2i - 1, of the second at 2i): a band (l, u) becomes the band (2l + 1, 2u + 1).
+   pure function stacked_structure(block) result(structure)
+      !> Structure of the n x n blocks
+      type(matrix_structure_type), intent(in) :: block
       type(matrix_structure_type) :: structure
-      if (a%storage == storage_band .and. b%storage == storage_band) then
-         structure = band_structure(a%lower + b%lower, a%upper + b%upper)
+      if (block%storage == storage_band) then
+         structure = band_structure(2*block%lower + 1, 2*block%upper + 1)
       else
          structure = dense_structure()
       end if
-   end function product_structure
+   end function stacked_structure
 
    !> A zero n x n matrix with the given structure; bandwidths are clamped to n - 1,
    !> and a structure that is not valid for n (negative bandwidths, unknown storage)
@@ -297,38 +300,6 @@ contains
       end select
    end subroutine dense_add_scaled
 
-   !> A = A + alpha B C, column by column: (B C)(:, j) = sum_k B(:, k) C(k, j).
-   subroutine dense_add_product(self, alpha, b, c, stat)
-      class(dense_matrix_type), intent(inout) :: self
-      real(dp), intent(in) :: alpha
-      class(matrix_type), intent(in) :: b, c
-      type(status_type), intent(inout) :: stat
-      integer :: i, j, k
-      real(dp) :: ckj
-      if (b%n /= self%n .or. c%n /= self%n) then
-         call mismatch(stat, "a product")
-         return
-      end if
-      select type (b)
-      type is (dense_matrix_type)
-         select type (c)
-         type is (dense_matrix_type)
-            do j = 1, self%n
-               do k = 1, self%n
-                  ckj = alpha*c%a(k, j)
-                  do i = 1, self%n
-                     self%a(i, j) = self%a(i, j) + ckj*b%a(i, k)
-                  end do
-               end do
-            end do
-         class default
-            call mismatch(stat, "a product")
-         end select
-      class default
-         call mismatch(stat, "a product")
-      end select
-   end subroutine dense_add_product
-
    subroutine dense_add_identity(self, alpha)
       class(dense_matrix_type), intent(inout) :: self
       real(dp), intent(in) :: alpha
@@ -337,6 +308,40 @@ contains
          self%a(i, i) = self%a(i, i) + alpha
       end do
    end subroutine dense_add_identity
+
+   !> A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j), B of order n / 2, dense or banded.
+   subroutine dense_add_block(self, alpha, b, row_block, column_block, stat)
+      class(dense_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b
+      integer, intent(in) :: row_block, column_block
+      type(status_type), intent(inout) :: stat
+      integer :: i, j, row, column
+      if (2*b%n /= self%n .or. min(row_block, column_block) < 1 .or. max(row_block, column_block) > 2) then
+         call mismatch(stat, "a block")
+         return
+      end if
+      select type (b)
+      type is (dense_matrix_type)
+         do j = 1, b%n
+            column = 2*j - 2 + column_block
+            do i = 1, b%n
+               row = 2*i - 2 + row_block
+               self%a(row, column) = self%a(row, column) + alpha*b%a(i, j)
+            end do
+         end do
+      type is (band_matrix_type)
+         do j = 1, b%n
+            column = 2*j - 2 + column_block
+            do i = max(1, j - b%ku), min(b%n, j + b%kl)
+               row = 2*i - 2 + row_block
+               self%a(row, column) = self%a(row, column) + alpha*b%ab(b%diagonal + i - j, j)
+            end do
+         end do
+      class default
+         call mismatch(stat, "a block")
+      end select
+   end subroutine dense_add_block
 
    pure function band_structure_of(self) result(structure)
       class(band_matrix_type), intent(in) :: self
@@ -404,58 +409,6 @@ contains
       end select
    end subroutine band_add_scaled
 
-   !> A = A + alpha B C, column by column: (B C)(:, j) = sum_k B(:, k) C(k, j).
-   subroutine band_add_product(self, alpha, b, c, stat)
-      class(band_matrix_type), intent(inout) :: self
-      real(dp), intent(in) :: alpha
-      class(matrix_type), intent(in) :: b, c
-      type(status_type), intent(inout) :: stat
-      if (b%n /= self%n .or. c%n /= self%n) then
-         call mismatch(stat, "a product")
-         return
-      end if
-      select type (b)
-      type is (band_matrix_type)
-         select type (c)
-         type is (band_matrix_type)
-            ! the product's bands, at most n - 1 wide, must fit
-            if (min(b%kl + c%kl, self%n - 1) > self%kl .or. min(b%ku + c%ku, self%n - 1) > self%ku) then
-               call mismatch(stat, "a product")
-               return
-            end if
-            call add_band_product(self%ab, self%diagonal, alpha, b%ab, b%diagonal, b%kl, b%ku, &
-               c%ab, c%diagonal, c%kl, c%ku)
-         class default
-            call mismatch(stat, "a product")
-         end select
-      class default
-         call mismatch(stat, "a product")
-      end select
-   end subroutine band_add_product
-
-   !> A = A + alpha B C on band storages of order size(a, 2), column by column:
-   !> (B C)(:, j) = sum_k B(:, k) C(k, j), skipping the zero entries of C (as BLAS
-   !> dger skips zero multipliers; Jacobians often hold zeros inside their bands).
-   pure subroutine add_band_product(a, diagonal_a, alpha, b, diagonal_b, kl_b, ku_b, c, diagonal_c, kl_c, ku_c)
-      real(dp), contiguous, intent(inout) :: a(:, :)
-      integer, intent(in) :: diagonal_a, diagonal_b, kl_b, ku_b, diagonal_c, kl_c, ku_c
-      real(dp), intent(in) :: alpha
-      real(dp), contiguous, intent(in) :: b(:, :), c(:, :)
-      integer :: n, i, j, k
-      real(dp) :: ckj
-      n = size(a, 2)
-      do j = 1, n
-         do k = max(1, j - ku_c), min(n, j + kl_c)
-            if (c(diagonal_c + k - j, j) == 0.0_dp) cycle
-            ckj = alpha*c(diagonal_c + k - j, j)
-            !GCC$ novector
-            do i = max(1, k - ku_b), min(n, k + kl_b)
-               a(diagonal_a + i - j, j) = a(diagonal_a + i - j, j) + ckj*b(diagonal_b + i - k, k)
-            end do
-         end do
-      end do
-   end subroutine add_band_product
-
    subroutine band_add_identity(self, alpha)
       class(band_matrix_type), intent(inout) :: self
       real(dp), intent(in) :: alpha
@@ -464,5 +417,37 @@ contains
          self%ab(self%diagonal, j) = self%ab(self%diagonal, j) + alpha
       end do
    end subroutine band_add_identity
+
+   !> A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j), B banded of order n / 2 with bands
+   !> that fit A's once interleaved (2 kl_B + r - c <= kl_A, 2 ku_B + c - r <= ku_A).
+   subroutine band_add_block(self, alpha, b, row_block, column_block, stat)
+      class(band_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b
+      integer, intent(in) :: row_block, column_block
+      type(status_type), intent(inout) :: stat
+      integer :: i, j, row, column
+      if (2*b%n /= self%n .or. min(row_block, column_block) < 1 .or. max(row_block, column_block) > 2) then
+         call mismatch(stat, "a block")
+         return
+      end if
+      select type (b)
+      type is (band_matrix_type)
+         if (2*b%kl + row_block - column_block > self%kl .or. 2*b%ku + column_block - row_block > self%ku) then
+            call mismatch(stat, "a block")
+            return
+         end if
+         do j = 1, b%n
+            column = 2*j - 2 + column_block
+            do i = max(1, j - b%ku), min(b%n, j + b%kl)
+               row = 2*i - 2 + row_block
+               self%ab(self%diagonal + row - column, column) = self%ab(self%diagonal + row - column, column) + &
+                  alpha*b%ab(b%diagonal + i - j, j)
+            end do
+         end do
+      class default
+         call mismatch(stat, "a block")
+      end select
+   end subroutine band_add_block
 
 end module taylorode_linalg_matrix

@@ -2,12 +2,21 @@
 !> solves (a residual and a Newton matrix, `nonlinear_system_type`) and holds one
 !> `newton_solver_type` per distinct Newton matrix. Everything a solve depends on
 !> (the step size, the tolerances, the iteration limit) comes in as arguments.
+!>
+!> A Newton matrix of the form M = A - B C (the second-order Taylor schemes: I - h J +
+!> h^2/2 J^2 and its relatives) is not formed: a solver made `stacked` factors the
+!> matrix [[A, B], [C, I]] of twice the order instead, whose Schur complement is M,
+!> and solves M x = b as [[A, B], [C, I]] [x; y] = [b; 0]. M's condition number grows
+!> like (h |lambda|)^2 for a stiff eigenvalue lambda, the stacked matrix's like h
+!> |lambda|: the rounding errors of the solves (which break the linear invariants the
+!> schemes keep exactly, such as E5's y2 - y3 - y4 = 0, by eps times the condition
+!> number at every step) shrink by a factor h |lambda|.
 module taylorode_newton_solver
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_code, status_ok, status_newton_diverged, &
       status_newton_not_converged, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
-   use taylorode_linalg_matrix, only: matrix_type, matrix_structure_type
+   use taylorode_linalg_matrix, only: matrix_type, matrix_structure_type, stacked_structure
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_problem_ode, only: ode_problem
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -63,7 +72,8 @@ module taylorode_newton_solver
    contains
       !> Residual r(u)
       procedure(residual_interface), deferred :: residual
-      !> Newton matrix (approximate dr/du) at u, assembled into `matrix`
+      !> Newton matrix (approximate dr/du) at u, assembled into `matrix` (for a stacked
+      !> solver: the blocks A, B, C of [[A, B], [C, I]], see `add_block`)
       procedure(newton_matrix_interface), deferred :: newton_matrix
    end type nonlinear_system_type
 
@@ -86,8 +96,13 @@ module taylorode_newton_solver
       type(kept_factorization_type) :: kept(2)
       !> Unknowns, for a second factorization allocated later
       integer :: m = 0
-      !> Matrix structure, for a second factorization allocated later
+      !> Matrix structure, for a second factorization allocated later (of the stacked
+      !> matrix for a stacked solver)
       type(matrix_structure_type) :: structure
+      !> Whether the Newton matrix A - B C is factored as [[A, B], [C, I]], of order 2m
+      logical :: stacked = .false.
+      !> The stacked right-hand side [b; 0] and solution [x; y], interleaved
+      real(dp), allocatable :: stacked_vector(:)
       !> Solves so far
       integer(i8) :: solves = 0
       !> Contraction factor of the last two increments of the last solve (0 when it
@@ -108,6 +123,8 @@ module taylorode_newton_solver
       procedure :: forget
       !> x = M^(-1) x with the Newton matrix the last solve used
       procedure :: apply_inverse
+      !> x = M^(-1) x with the factors of one kept factorization
+      procedure, private :: solve_linear
    end type newton_solver_type
 
    abstract interface
@@ -127,7 +144,9 @@ module taylorode_newton_solver
       end subroutine residual_interface
 
       !> Newton matrix at u. Newton calls it only right after `residual` at the same u,
-      !> so values computed there may be reused.
+      !> so values computed there may be reused. For a stacked solver `matrix` has order
+      !> 2m and receives the blocks A, B, C of [[A, B], [C, I]] (the identity included),
+      !> block (r, c) entry (i, j) at row 2i - 2 + r, column 2j - 2 + c.
       subroutine newton_matrix_interface(self, problem, u, matrix, counters, stat)
          import :: nonlinear_system_type, ode_problem, dp, matrix_type, counters_type, status_type
          !> The system
@@ -147,23 +166,32 @@ module taylorode_newton_solver
 
 contains
 
-   !> Allocate for systems of m unknowns whose Newton matrix has the given structure.
-   subroutine init(self, m, structure, stat)
+   !> Allocate for systems of m unknowns whose Newton matrix has the given structure
+   !> (with `stacked`: whose Newton matrix A - B C is factored as [[A, B], [C, I]], the
+   !> blocks A, B, C of that structure).
+   subroutine init(self, m, structure, stat, stacked)
       !> The solver
       class(newton_solver_type), intent(inout) :: self
       !> Unknowns of the system
       integer, intent(in) :: m
-      !> Storage and bandwidths of the Newton matrix
+      !> Storage and bandwidths of the Newton matrix (of its blocks when stacked)
       type(matrix_structure_type), intent(in) :: structure
       !> status_invalid_argument for an impossible structure
       type(status_type), intent(inout) :: stat
+      !> Whether the Newton matrix is factored as a stacked block matrix (default: no)
+      logical, intent(in), optional :: stacked
       self%m = m
+      self%stacked = .false.
+      if (present(stacked)) self%stacked = stacked
       self%structure = structure
-      call new_linear_solver(self%kept(1)%linear, m, structure, stat)
+      if (self%stacked) self%structure = stacked_structure(structure)
+      call new_linear_solver(self%kept(1)%linear, merge(2*m, m, self%stacked), self%structure, stat)
       ! a second factorization is allocated again when a solve asks for it
       self%kept(2) = kept_factorization_type()
       if (allocated(self%increment)) deallocate (self%increment, self%inverse_tolerance)
       allocate (self%increment(m), self%inverse_tolerance(m))
+      if (allocated(self%stacked_vector)) deallocate (self%stacked_vector)
+      if (self%stacked) allocate (self%stacked_vector(2*m))
       call self%forget()
    end subroutine init
 
@@ -180,16 +208,42 @@ contains
    !> step damps them). status_invalid_argument (code only) when it holds no factors.
    subroutine apply_inverse(self, x, counters, stat)
       !> The solver, after a successful solve
-      class(newton_solver_type), intent(in) :: self
+      class(newton_solver_type), intent(inout) :: self
       !> Vector on entry, M^(-1) times it on exit
       real(dp), contiguous, intent(inout) :: x(:)
       !> The linear solve is counted here
       type(counters_type), intent(inout) :: counters
       !> status_invalid_argument when there are no factors
       type(status_type), intent(inout) :: stat
-      call self%kept(self%last_slot)%linear%solve(x, stat)
+      call self%solve_linear(self%last_slot, x, stat)
       counters%linear_solves = counters%linear_solves + 1
    end subroutine apply_inverse
+
+   !> x = M^(-1) x with the factors kept in `slot`: directly, or for a stacked solver
+   !> as the first half of [[A, B], [C, I]]^(-1) [x; 0].
+   subroutine solve_linear(self, slot, x, stat)
+      !> The solver
+      class(newton_solver_type), intent(inout) :: self
+      !> The kept factorization to use
+      integer, intent(in) :: slot
+      !> Right-hand side on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: x(:)
+      !> status_invalid_argument when there are no factors
+      type(status_type), intent(inout) :: stat
+      integer :: i
+      if (.not. self%stacked) then
+         call self%kept(slot)%linear%solve(x, stat)
+         return
+      end if
+      do i = 1, self%m
+         self%stacked_vector(2*i - 1) = x(i)
+         self%stacked_vector(2*i) = 0.0_dp
+      end do
+      call self%kept(slot)%linear%solve(self%stacked_vector, stat)
+      do i = 1, self%m
+         x(i) = self%stacked_vector(2*i - 1)
+      end do
+   end subroutine solve_linear
 
    !> Newton's method for system%residual(u) = 0 from the guess in u. The matrix is
    !> built and factored at the first iterate, or kept from an earlier solve while h
@@ -275,7 +329,7 @@ contains
             if (stat%code /= status_ok) return
             rebuild = .false.
          end if
-         call self%kept(slot)%linear%solve(self%increment, stat)
+         call self%solve_linear(slot, self%increment, stat)
          counters%linear_solves = counters%linear_solves + 1
          if (stat%code /= status_ok) return
          ! the update and the size of the increment in the tolerances
@@ -360,7 +414,7 @@ contains
          do j = 2, slots
             if (.not. allocated(self%kept(j)%linear%matrix)) then
                ! the second factorization is allocated when it is first asked for
-               call new_linear_solver(self%kept(j)%linear, self%m, self%structure, stat)
+               call new_linear_solver(self%kept(j)%linear, merge(2*self%m, self%m, self%stacked), self%structure, stat)
                slot = j
                return
             end if

@@ -8,11 +8,15 @@
 !> steps (Robertson) it diverges. Unless the Newton settings ask for the paper's
 !> matrices, the i-t-2 matrix is exact: I - h J + h^2/2 (J^2 + F''(U)[F(U)]), the
 !> last term the derivative of J along F, formed by differencing the Jacobians.
+!> It is factored as the stacked matrix [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]],
+!> whose Schur complement it is: J^2 is never formed, and the solves keep their
+!> rounding errors at the size of h |lambda| instead of (h |lambda|)^2 (see
+!> taylorode_newton_solver).
 module taylorode_schemes_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
    use taylorode_base_counters, only: counters_type
-   use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
@@ -93,7 +97,7 @@ contains
       end if
    end function implicit_taylor_stability
 
-   !> Work arrays; the i-t-2 Newton matrix holds J^2 and gets the bandwidths of a product.
+   !> Work arrays; the i-t-2 Newton solver is stacked.
    subroutine implicit_taylor_prepare(self, problem, n, stat)
       class(implicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(in) :: problem
@@ -101,7 +105,7 @@ contains
       type(status_type), intent(inout) :: stat
       if (.not. self%resize(problem, n, stat)) return
       call self%newton(1)%init(n, self%structure, stat)
-      call self%newton(2)%init(n, product_structure(self%structure, self%structure), stat)
+      call self%newton(2)%init(n, self%structure, stat, stacked=.true.)
       associate (system => self%system)
          if (allocated(system%u0)) deallocate (system%u0, system%rhs1, system%probe)
          allocate (system%u0(n), system%rhs1(n), system%probe(n))
@@ -174,7 +178,8 @@ contains
       end if
    end subroutine implicit_taylor_residual
 
-   !> I - h J(U) [+ h^2/2 J(U)^2 for order 2], J(U) reused from the residual for order 2.
+   !> I - h J(U), or for order 2 the stacked [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]]
+   !> (J(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]).
    subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -185,17 +190,20 @@ contains
 
       real(dp) :: epsilon_f
 
-      if (self%order /= 2) call jacobian_at(self, problem, u, counters)
-      call matrix%add_scaled(-self%h, self%jac1, stat)
-      if (self%order == 2) then
-         call matrix%add_product(0.5_dp*self%h*self%h, self%jac1, self%jac1, stat)
+      if (self%order /= 2) then
+         call jacobian_at(self, problem, u, counters)
+         call matrix%add_scaled(-self%h, self%jac1, stat)
+      else
+         call matrix%add_block(-self%h, self%jac1, 1, 1, stat)
+         call matrix%add_block(0.5_dp*self%h, self%jac1, 1, 2, stat)
+         call matrix%add_block(-self%h, self%jac1, 2, 1, stat)
          if (self%second_derivatives .and. allocated(self%jac_probe)) then
             ! F''(U)[F] = (J(U + e F) - J(U)) / e, e F of the size of sqrt(eps) |U|
             epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
             self%probe = u + epsilon_f*self%rhs1
             call evaluate_jac(problem, self%t1, self%probe, self%jac_probe, counters)
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
-            call matrix%add_scaled(0.5_dp*self%h*self%h/epsilon_f, self%jac_probe, stat)
+            call matrix%add_block(0.5_dp*self%h*self%h/epsilon_f, self%jac_probe, 1, 1, stat)
          end if
       end if
       call matrix%add_identity(1.0_dp)

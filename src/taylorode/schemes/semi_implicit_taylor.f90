@@ -7,11 +7,18 @@
 !>                  linear test equation), kept to reproduce the paper.
 !>
 !> Embedded pairs: si-t-1 with si-t-2, si-t-2 with si-t-1, si-t-2-paper with si-t-1.
+!>
+!> The second-order members' Newton matrices I - h J_g1 + h^2/2 P J_g1 (P = J_g0, or
+!> J0 for si-t-2-paper; si-t-2 adds h^2/2 J_g0 J_f0) are factored as the stacked
+!> matrices [[I - h J_g1, h/2 P], [-h Q, I]] (Q = J_f0 + J_g1 for si-t-2, J_g1 for
+!> si-t-2-paper), whose Schur complement they are: no product of Jacobians is formed,
+!> and the solves keep their rounding errors at the size of h |lambda| instead of
+!> (h |lambda|)^2 (see taylorode_newton_solver).
 module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument
    use taylorode_base_counters, only: counters_type
-   use taylorode_linalg_matrix, only: matrix_type, new_matrix, product_structure
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
@@ -167,9 +174,8 @@ contains
    !> The Newton solver and the matrices of `member`, made on its first use: si-t-1
    !> needs J_g at the iterate; si-t-2 J_f and J_g at U0 (and J_g at the iterate,
    !> made when a Newton matrix is first built, unless g is linear); si-t-2-paper
-   !> both, J_g at the iterate and J0 = J_f0 + J_g0. The
-   !> second-order members' Newton matrices hold products of Jacobians and get the
-   !> bandwidths of a product.
+   !> both, J_g at the iterate and J0 = J_f0 + J_g0. The second-order members' Newton
+   !> solvers are stacked.
    subroutine make_member(self, member, stat)
       class(semi_implicit_taylor_type), intent(inout) :: self
       integer, intent(in) :: member
@@ -178,7 +184,7 @@ contains
       if (member == si_t_1) then
          call self%newton(member)%init(self%n, self%structure, stat)
       else
-         call self%newton(member)%init(self%n, product_structure(self%structure, self%structure), stat)
+         call self%newton(member)%init(self%n, self%structure, stat, stacked=.true.)
       end if
       associate (system => self%system)
          if (member /= si_t_2) call make_matrix(system%jac_g1)
@@ -378,30 +384,43 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
-      real(dp) :: half_h2
-
-      half_h2 = 0.5_dp*self%h*self%h
       if (self%member == si_t_2) then
-         ! J_f from U0, J_g at the iterate (with g linear: the J_g it already has)
+         ! [[I - h J_g1, h/2 J_g0], [-h (J_f0 + J_g1), I]]: J_f from U0, J_g at the
+         ! iterate (with g linear: the J_g it already has)
          if (problem%linear_g) then
-            call matrix%add_scaled(-self%h, self%jac_g0, stat)
-            call matrix%add_product(half_h2, self%jac_g0, self%jac_g0, stat)
+            call add_si_t_2_blocks(self%jac_g0)
          else
             if (.not. allocated(self%jac_g1)) call new_matrix(self%jac_g1, size(u), self%jac_g0%structure(), stat)
             call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
-            call matrix%add_scaled(-self%h, self%jac_g1, stat)
-            call matrix%add_product(half_h2, self%jac_g0, self%jac_g1, stat)
+            call add_si_t_2_blocks(self%jac_g1)
          end if
-         call matrix%add_product(half_h2, self%jac_g0, self%jac_f0, stat)
       else
          if (.not. (problem%linear_g .and. self%jac_g1_constant)) then
             call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
             self%jac_g1_constant = problem%linear_g
          end if
-         call matrix%add_scaled(-self%h, self%jac_g1, stat)
-         if (self%member == si_t_2_paper) call matrix%add_product(half_h2, self%jac0, self%jac_g1, stat)
+         if (self%member == si_t_2_paper) then
+            ! [[I - h J_g1, h/2 J0], [-h J_g1, I]]
+            call matrix%add_block(-self%h, self%jac_g1, 1, 1, stat)
+            call matrix%add_block(0.5_dp*self%h, self%jac0, 1, 2, stat)
+            call matrix%add_block(-self%h, self%jac_g1, 2, 1, stat)
+         else
+            call matrix%add_scaled(-self%h, self%jac_g1, stat)
+         end if
       end if
       call matrix%add_identity(1.0_dp)
+
+   contains
+
+      !> The blocks of si-t-2's stacked matrix but the identity, with J_g1 at the iterate
+      subroutine add_si_t_2_blocks(jac_g1)
+         class(matrix_type), intent(in) :: jac_g1
+         call matrix%add_block(-self%h, jac_g1, 1, 1, stat)
+         call matrix%add_block(0.5_dp*self%h, self%jac_g0, 1, 2, stat)
+         call matrix%add_block(-self%h, self%jac_f0, 2, 1, stat)
+         call matrix%add_block(-self%h, jac_g1, 2, 1, stat)
+      end subroutine add_si_t_2_blocks
+
    end subroutine semi_implicit_matrix
 
 end module taylorode_schemes_semi_implicit_taylor
