@@ -6,7 +6,7 @@ module test_features
    use taylorode, only: dp, i8, ode_problem, scheme_type, new_scheme, integrate, integrator_type, status_type, &
       integrator_options_type, integration_stats_type, paper_options, status_ok, status_invalid_argument, &
       status_size_mismatch, accepted_step_type, step_observer_type, event_functions_type, event_rising, &
-      event_falling, error_weight_type, integrate_fixed
+      event_falling, error_weight_type, integrate_fixed, estimate_embedded
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, robertson_type, new_robertson, &
       brusselator_type, new_brusselator, prothero_robinson_type, new_prothero_robinson
    use taylorode_base_strings, only: format_real, format_integer
@@ -32,6 +32,16 @@ module test_features
    contains
       procedure :: evaluate => ground_height
    end type ground_type
+
+   !> u' = -rate u in f: an explicit step longer than 1/rate overshoots below 0
+   type, extends(ode_problem) :: decay_type
+      real(dp) :: rate = 50.0_dp
+   contains
+      procedure :: f => decay_f
+      procedure :: g => decay_g
+      procedure :: jac_f => decay_jac_f
+      procedure :: jac_g => decay_jac_g
+   end type decay_type
 
    !> Robertson's y1 crossing 0.8 (falling), and y3 crossing 0.5 (rising, not on [0, 40])
    type, extends(event_functions_type) :: threshold_type
@@ -76,7 +86,8 @@ contains
          new_unittest("dense-output-costs", test_dense_output_costs), &
          new_unittest("tolerance-per-component", test_tolerance_per_component), &
          new_unittest("error-weights-of-your-own", test_error_weights), &
-         new_unittest("linear-g-declared", test_linear_g) &
+         new_unittest("linear-g-declared", test_linear_g), &
+         new_unittest("nonnegative-components", test_nonnegative) &
          ]
    end subroutine collect_features
 
@@ -483,6 +494,84 @@ contains
       values(1) = u(1) - 0.8_dp
       values(2) = u(3) - 0.5_dp
    end subroutine thresholds
+
+   !> options%nonnegative. Robertson to t = 1e11 with radau5 at rtol 1e-2, atol 1e-6 (atol
+   !> 1e-4 rtol, as the test set scales it): without the constraint y1, far below atol, went
+   !> negative at t = 3.5e10, where the equations blow up, and the run returned y = (-5.5e6,
+   !> -4e-6, 5.5e6) with status ok; with it every component stays >= 0 and the state is
+   !> within 100 tolerances of the published one (the accuracy suite's bound). An explicit
+   !> Euler step of 0.1 on u' = -50 u (error estimate: the embedded pair, so that the step
+   !> advances with Euler) lands at -4 u0: rejected for the constraint (not the error
+   !> test) and retried at 0.9 of the fraction of the step that reaches 0. A wrong
+   !> size, and a negative initial component, are errors.
+   subroutine test_nonnegative(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(robertson_type) :: robertson
+      type(decay_type) :: decay
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(3), v(1), e_w
+      robertson = new_robertson(1.0e11_dp)
+      call new_scheme("radau5", scheme, stat)
+      options = integrator_options_type(rtol=1.0e-2_dp, atol=1.0e-6_dp, nonnegative=[.true., .true., .true.])
+      u = robertson%u0
+      call integrate(robertson, scheme, 0.0_dp, robertson%t_end, u, options, stats, stat)
+      call check(error, stat%code, status_ok, "Robertson to 1e11: "//stat_message(stat))
+      if (allocated(error)) return
+      e_w = maxval(abs(u - robertson%reference)/(options%atol + options%rtol*abs(robertson%reference)))
+      call check(error, all(u >= 0.0_dp) .and. e_w <= 100.0_dp, "Robertson to 1e11: y = "//format_real(u(1))// &
+         ", "//format_real(u(2))//", "//format_real(u(3))//", error "//format_real(e_w)//" tolerances")
+      if (allocated(error)) return
+
+      call new_scheme("ex-t-1", scheme, stat)
+      options = integrator_options_type(rtol=1.0e-3_dp, atol=1.0e-6_dp, h0=0.1_dp, nonnegative=[.true.], &
+         error_estimate=estimate_embedded)
+      v = 1.0_dp
+      call integrate(decay, scheme, 0.0_dp, 0.2_dp, v, options, stats, stat)
+      call check(error, stat%code == status_ok .and. stats%rejected_constraint >= 1 .and. v(1) >= 0.0_dp .and. &
+         abs(v(1) - exp(-10.0_dp)) <= 1.0e-4_dp, "u' = -50 u: status "//stat_message(stat)//", "// &
+         format_integer(int(stats%rejected_constraint))//" rejected for the constraint, u = "//format_real(v(1)))
+      if (allocated(error)) return
+
+      options%nonnegative = [.true., .true.]
+      call integrate(decay, scheme, 0.0_dp, 0.2_dp, v, options, stats, stat)
+      call check(error, stat%code, status_size_mismatch, "nonnegative of the wrong size")
+      if (allocated(error)) return
+      options%nonnegative = [.true.]
+      v = -1.0_dp
+      call integrate(decay, scheme, 0.0_dp, 0.2_dp, v, options, stats, stat)
+      call check(error, stat%code, status_invalid_argument, "a negative initial component declared nonnegative")
+   end subroutine test_nonnegative
+
+   subroutine decay_f(self, t, u, dudt)
+      class(decay_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -self%rate*u
+   end subroutine decay_f
+
+   subroutine decay_g(self, t, u, dudt)
+      class(decay_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine decay_g
+
+   subroutine decay_jac_f(self, t, u, jac)
+      class(decay_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = -self%rate
+   end subroutine decay_jac_f
+
+   subroutine decay_jac_g(self, t, u, jac)
+      class(decay_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine decay_jac_g
 
    subroutine ball_f(self, t, u, dudt)
       class(ball_type), intent(inout) :: self

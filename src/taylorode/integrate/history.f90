@@ -11,7 +11,7 @@ module taylorode_integrate_history
 
    public :: step_history_type, write_history_csv
    public :: attempt_accepted, attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, &
-      attempt_failed_evaluation
+      attempt_failed_evaluation, attempt_rejected_constraint
    public :: attempt_name
 
    !> The step passed the error test
@@ -24,6 +24,8 @@ module taylorode_integrate_history
    integer, parameter :: attempt_failed_nonfinite = 3
    !> The problem could not evaluate f, g or a Jacobian at a point of the step
    integer, parameter :: attempt_failed_evaluation = 4
+   !> A component declared nonnegative went below 0 by more than the step may set right
+   integer, parameter :: attempt_rejected_constraint = 5
 
    !> Column names before the state columns
    character(len=*), parameter :: header = "step,t,h,err,outcome,newton_iterations"
@@ -84,13 +86,14 @@ contains
    !> results inside expressions are not thread-safe with gfortran 12).
    pure function outcome_word(outcome) result(name)
       integer, intent(in) :: outcome
-      character(len=17) :: name
+      character(len=19) :: name
       select case (outcome)
       case (attempt_accepted); name = "accepted"
       case (attempt_rejected_error); name = "rejected_error"
       case (attempt_failed_newton); name = "failed_newton"
       case (attempt_failed_nonfinite); name = "failed_nonfinite"
       case (attempt_failed_evaluation); name = "failed_evaluation"
+      case (attempt_rejected_constraint); name = "rejected_constraint"
       case default; name = "unknown"
       end select
    end function outcome_word

@@ -20,7 +20,7 @@ module taylorode_integrate_integrator
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_integrate_events, only: event_functions_type
    use taylorode_integrate_history, only: step_history_type, attempt_accepted, attempt_rejected_error, &
-      attempt_failed_nonfinite, attempt_failed_evaluation
+      attempt_failed_nonfinite, attempt_failed_evaluation, attempt_rejected_constraint
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -184,6 +184,13 @@ contains
       end if
       call validate_options(options, self%n, stat)
       if (stat%code /= status_ok) return
+      if (allocated(options%nonnegative)) then
+         if (any(options%nonnegative .and. u0 < 0.0_dp)) then
+            call set_status(stat, status_invalid_argument, "integrate: a component declared nonnegative is "// &
+               "negative in the initial state")
+            return
+         end if
+      end if
       if (options%error_estimate == estimate_defect .and. .not. scheme%estimates_step_error) then
          call set_status(stat, status_invalid_argument, "integrate: error_estimate = estimate_defect needs a "// &
             "scheme that estimates the error of its own step (si-t-2); "//scheme%name//" has none")
@@ -398,10 +405,14 @@ contains
             ! a step cut to land on the target does not shrink the next call's first step
             if (last) h = min(max(h_next, h_natural), self%options%h_max)
             if (stop_here) exit
-         case (attempt_rejected_error)
+         case (attempt_rejected_error, attempt_rejected_constraint)
             failures = 0
             call record_attempt(err, outcome, newton_before, u)
-            call_stats%rejected_error = call_stats%rejected_error + 1
+            if (outcome == attempt_rejected_error) then
+               call_stats%rejected_error = call_stats%rejected_error + 1
+            else
+               call_stats%rejected_constraint = call_stats%rejected_constraint + 1
+            end if
             h = h_next
          case default
             ! failed attempt: retry from the same state with a smaller step
@@ -621,6 +632,7 @@ contains
       total%rejected_newton = total%rejected_newton + call_stats%rejected_newton
       total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
       total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation
+      total%rejected_constraint = total%rejected_constraint + call_stats%rejected_constraint
       total%work = total%work + call_stats%work
       if (call_stats%accepted_steps > 0) then
          total%h_min_accepted = min(total%h_min_accepted, call_stats%h_min_accepted)

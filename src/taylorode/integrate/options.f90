@@ -141,6 +141,13 @@ module taylorode_integrate_options
       integer :: advance = advance_scheme
       !> With a step history: also record the state after every attempt
       logical :: history_states = .false.
+      !> Components that must stay >= 0 (one entry per unknown; unallocated: none), as
+      !> concentrations must: a step that makes one negative by at most a tenth of the
+      !> tolerance (in the error norm) has it set to 0, a step that makes one more
+      !> negative is rejected and retried shorter (the fraction of the step at which it
+      !> would reach 0). Without it a loose atol lets a concentration below atol go
+      !> negative where the equations are unstable (Robertson: y1 < 0 blows up to 1e7)
+      logical, allocatable :: nonnegative(:)
    end type integrator_options_type
 
 contains
@@ -193,6 +200,12 @@ contains
          end if
          if (.not. all(finite_at_least(options%rtol_vector, 0.0_dp))) then
             call invalid("every rtol_vector entry must be finite and >= 0"); return
+         end if
+      end if
+      if (allocated(options%nonnegative)) then
+         if (size(options%nonnegative) /= n) then
+            call set_status(stat, status_size_mismatch, "options: nonnegative must have one entry per unknown")
+            return
          end if
       end if
       if (allocated(options%atol_vector)) then

@@ -21,6 +21,8 @@ module taylorode_integrate_stats
       integer(i8) :: rejected_nonfinite = 0
       !> Attempts in which the problem rejected an evaluation (reject_evaluation)
       integer(i8) :: rejected_evaluation = 0
+      !> Steps rejected because a component declared nonnegative went below 0
+      integer(i8) :: rejected_constraint = 0
       !> Whether error weights were raised to what double precision resolves (tolerances
       !> below about 1e-14 relative ask for more than roundoff allows)
       logical :: weights_raised = .false.
@@ -42,7 +44,8 @@ contains
       !> The statistics
       class(integration_stats_type), intent(in) :: self
       integer(i8) :: n
-      n = self%rejected_error + self%rejected_newton + self%rejected_nonfinite + self%rejected_evaluation
+      n = self%rejected_error + self%rejected_newton + self%rejected_nonfinite + self%rejected_evaluation + &
+         self%rejected_constraint
    end function rejected_steps
 
 end module taylorode_integrate_stats

@@ -42,9 +42,9 @@ module taylorode_integrate_step
       !> F = f + g at both ends, which only the cubic Hermite interpolant uses
       !> (not evaluated when the scheme supplies its own dense output)
       real(dp), allocatable :: rhs_start(:), rhs_end(:)
-      !> Start of the step before (t_before < t_start) and the state there, for the
-      !> quadratic through three states
+      !> Start of the step before (t_before < t_start), for the quadratic through three states
       real(dp) :: t_before = 0.0_dp
+      !> State at t_before
       real(dp), allocatable :: u_before(:)
    contains
       !> The solution at t in [t_start, t_end] from the dense output

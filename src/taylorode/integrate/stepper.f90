@@ -28,7 +28,7 @@ module taylorode_integrate_stepper
    use taylorode_integrate_controller, only: controller_factor, controller_auto, controller_i, &
       controller_predictive, predictive_factor
    use taylorode_integrate_history, only: attempt_accepted, attempt_rejected_error, &
-      attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation
+      attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, attempt_rejected_constraint
    use taylorode_integrate_reduction, only: reduced_max, reduced_root_mean_square, agree_on_outcome
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
@@ -47,6 +47,13 @@ module taylorode_integrate_stepper
    !> Step-size factor after a failed attempt (NaN/Inf values, a rejected evaluation,
    !> and a Newton failure unless the scheme proposes its own factor)
    real(dp), parameter :: failure_shrink = 0.25_dp
+   !> Components declared nonnegative that went below 0 are set to 0 while their
+   !> negative parts are at most this fraction of the tolerance in the error norm
+   real(dp), parameter :: projection_limit = 0.1_dp
+   !> After a step rejected for a negative component: the retry is this fraction of
+   !> the part of the step before the first such component reached 0 along the line
+   !> from its start value, and at least constraint_shrink_low of the step
+   real(dp), parameter :: constraint_safety = 0.9_dp, constraint_shrink_low = 0.1_dp
 
    !> Work arrays and controller memory of the step attempts of one integration
    type :: stepper_type
@@ -91,6 +98,8 @@ module taylorode_integrate_stepper
       real(dp), allocatable :: guess(:)
       !> Whether Newton starts from an extrapolation, and whether one is possible now
       logical :: extrapolate = .false., extrapolation_ready = .false.
+      !> The negative parts of the components declared nonnegative (with options%nonnegative)
+      real(dp), allocatable :: violation(:)
    contains
       !> Prepare for an integration of n unknowns with a scheme and options
       procedure :: start
@@ -147,6 +156,7 @@ contains
             self%estimate = estimate_doubling
          end if
       end if
+      call sized(self%violation, merge(n, 0, allocated(options%nonnegative)))
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling))
       call sized(self%u_whole, size(self%u_half))
@@ -270,7 +280,7 @@ contains
    end function weighted_norm
 
    !> One attempt from (t, u) with step h. The outcome is attempt_accepted (u_new holds
-   !> the new state), attempt_rejected_error, attempt_failed_newton,
+   !> the new state), attempt_rejected_error, attempt_rejected_constraint, attempt_failed_newton,
    !> attempt_failed_nonfinite or attempt_failed_evaluation (step_stat holds the code);
    !> err is the weighted error (of an attempt that got that far) and h_next the
    !> controller's next step size (after a failed attempt: failure_shrink h, or the
@@ -340,6 +350,10 @@ contains
          return
       end select
       if (.not. scheme%weights_at_start) call self%set_weights(problem, options, u, self%u_new)
+      if (allocated(options%nonnegative)) then
+         call keep_nonnegative()
+         if (outcome == attempt_rejected_constraint) return
+      end if
       err = self%weighted_norm(problem, options, self%delta)
       ! a rejected step shrinks h by the I controller's factor: the PI and PID terms of
       ! earlier (small) errors could otherwise ask for a larger step than the one
@@ -374,6 +388,35 @@ contains
       end if
 
    contains
+
+      !> Components declared nonnegative that came out below 0: set to 0 when their
+      !> negative parts are within projection_limit in the error norm, else the attempt
+      !> is rejected, h_next the part of the step before the first of them reached 0
+      !> (from a positive start value, along the line to its new value) times
+      !> constraint_safety, at least constraint_shrink_low h (every process agrees).
+      subroutine keep_nonnegative()
+         real(dp) :: fraction
+         integer :: i
+         logical :: violated
+         violated = .false.
+         fraction = 1.0_dp
+         do i = 1, size(u)
+            self%violation(i) = 0.0_dp
+            if (.not. options%nonnegative(i)) cycle
+            if (self%u_new(i) >= 0.0_dp) cycle
+            violated = .true.
+            self%violation(i) = self%u_new(i)
+            if (u(i) > 0.0_dp) fraction = min(fraction, u(i)/(u(i) - self%u_new(i)))
+         end do
+         ! a norm of zeros on every process is 0: the test below is agreed on
+         if (self%weighted_norm(problem, options, self%violation) <= projection_limit) then
+            if (violated) where (self%violation < 0.0_dp) self%u_new = 0.0_dp
+            return
+         end if
+         outcome = attempt_rejected_constraint
+         fraction = -reduced_max(problem, -fraction)
+         h_next = max(constraint_shrink_low, constraint_safety*fraction)*h
+      end subroutine keep_nonnegative
 
       !> Two steps of h/2 into u_new (each Newton started from the extrapolation of the
       !> step before it), one step of h by the copy (started from u_new), and the

@@ -40,6 +40,7 @@ contains
       self%atol = 1.0e-24_dp
       self%reference = [0.1152903278711829e-290_dp, 0.8867655517642120e-22_dp, 0.8854814626268838e-22_dp, 0.0_dp]
       self%source = "Hairer & Wanner II, IV.10; Bari test set E5 (reference values)"
+      self%nonnegative = .true.
    end function new_e5
 
    subroutine e5_f(self, t, u, dudt)

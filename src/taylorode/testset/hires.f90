@@ -50,6 +50,7 @@ contains
          0.1175651343283149e-2_dp, 0.2386356198831331e-2_dp, 0.6238968252742796e-2_dp, &
          0.2849998395185769e-2_dp, 0.2850001604814231e-2_dp]
       self%source = "Hairer & Wanner II, IV.10; Bari test set HIRES (reference values)"
+      self%nonnegative = .true.
    end function new_hires
 
    subroutine hires_f(self, t, u, dudt)

@@ -52,6 +52,7 @@ contains
       self%atol = 1.0e-6_dp
       self%reference = [0.1000814870318523e1_dp, 0.1228178521549917e4_dp, 0.1320554942846706e3_dp]
       self%source = "Hairer & Wanner II, IV.10; Bari test set OREGO (reference values)"
+      self%nonnegative = .true.
    end function new_orego
 
    subroutine orego_f(self, t, u, dudt)

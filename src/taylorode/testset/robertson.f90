@@ -48,6 +48,7 @@ contains
          self%reference = [0.2083340149701255e-7_dp, 0.8333360770334713e-13_dp, 0.9999999791665050_dp]
       end if
       self%source = "Hairer & Wanner II, IV.1; Bari test set ROBER (reference values)"
+      self%nonnegative = .true.
    end function new_robertson
 
    subroutine robertson_f(self, t, u, dudt)

@@ -27,6 +27,9 @@ module taylorode_testset_test_problem
       real(dp), allocatable :: reference(:)
       !> Where the definition and the reference values come from
       character(len=:), allocatable :: source
+      !> Whether every component must stay >= 0 (concentrations): the equations are
+      !> unstable where one is negative, so run with options%nonnegative set for all
+      logical :: nonnegative = .false.
    end type test_problem_type
 
 end module taylorode_testset_test_problem
