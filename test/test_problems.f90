@@ -9,7 +9,7 @@ module test_problems
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
       linear_test_type, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, new_test_problem, &
       test_problem_names, test_problem_count, brusselator_type, new_brusselator, orego_type, new_orego, &
-      orego_split_bilinear_stiff
+      orego_split_bilinear_stiff, pollution_type, new_pollution, medical_akzo_type, new_medical_akzo
    implicit none
    private
 
@@ -48,7 +48,10 @@ contains
          new_unittest("rhs-and-jac-equal-their-parts", test_rhs_equals_parts), &
          new_unittest("unknown-problem", test_unknown_problem), &
          new_unittest("band-jacobians", test_band_jacobians), &
-         new_unittest("banded-path-equals-dense", test_banded_path) &
+         new_unittest("banded-path-equals-dense", test_banded_path), &
+         new_unittest("pollution-parts-conserve-atoms", test_pollution_conservation), &
+         new_unittest("medakzo-band-jacobians", test_medakzo_band_jacobians), &
+         new_unittest("medakzo-g-is-linear", test_medakzo_linear_g) &
          ]
    end subroutine collect_problems
 
@@ -237,17 +240,29 @@ contains
       real(dp), intent(in) :: t, u(:)
       logical, intent(in) :: of_f
       character(len=*), intent(in) :: label
-      real(dp) :: jac(size(u), size(u)), column(size(u)), plus(size(u)), minus(size(u)), probe(size(u))
-      real(dp) :: step, worst, scale
-      integer :: j
+      real(dp) :: jac(size(u), size(u))
 
       if (of_f) then
          call problem%jac_f(t, u, jac)
       else
          call problem%jac_g(t, u, jac)
       end if
-      scale = max(1.0_dp, maxval(abs(jac)))
-      worst = 0.0_dp
+      call check(error, maxval(abs(central_differences(problem, t, u, merge(1, 2, of_f)) - jac))/ &
+         max(1.0_dp, maxval(abs(jac))) < 1.0e-7_dp, label//merge(": df/dU", ": dg/dU", of_f)// &
+         " differs from central differences")
+   end subroutine compare_central
+
+   !> The Jacobian of f (which = 1), g (2) or F = rhs (3) by central differences, with
+   !> increments 1e-6 max(|u_j|, 1e-3).
+   function central_differences(problem, t, u, which) result(jac)
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, u(:)
+      integer, intent(in) :: which
+      real(dp), allocatable :: jac(:, :)
+      real(dp) :: plus(size(u)), minus(size(u)), probe(size(u)), step
+      integer :: j
+
+      allocate (jac(size(u), size(u)))
       do j = 1, size(u)
          step = 1.0e-6_dp*max(abs(u(j)), 1.0e-3_dp)
          probe = u
@@ -255,22 +270,22 @@ contains
          call evaluate(probe, plus)
          probe(j) = u(j) - step
          call evaluate(probe, minus)
-         column = (plus - minus)/(2.0_dp*step)
-         worst = max(worst, maxval(abs(column - jac(:, j))))
+         jac(:, j) = (plus - minus)/(2.0_dp*step)
       end do
-      call check(error, worst/scale < 1.0e-7_dp, label//merge(": df/dU", ": dg/dU", of_f)// &
-         " differs from central differences")
    contains
       subroutine evaluate(state, value)
          real(dp), intent(in) :: state(:)
          real(dp), intent(out) :: value(:)
-         if (of_f) then
+         select case (which)
+         case (1)
             call problem%f(t, state, value)
-         else
+         case (2)
             call problem%g(t, state, value)
-         end if
+         case default
+            call problem%rhs(t, state, value)
+         end select
       end subroutine evaluate
-   end subroutine compare_central
+   end function central_differences
 
    !> Band Jacobians of the Brusselator (analytic, and the library's grouped
    !> differences) equal the dense analytic ones inside the band and the band holds
@@ -352,6 +367,135 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_banded_path
+
+   !> POLLU's mechanism conserves nitrogen (NO2, NO, PAN, HNO3, NO3 and twice N2O5),
+   !> carbon (HCHO, CO, MEO2, CO2, CH3O and twice ALD, C2O3, PAN) and sulphur (SO2, SO4)
+   !> reaction by reaction, so f and g each do: w . f = w . g = 0 up to the rounding of
+   !> their terms (1e-14 of sum |w_i| |part_i|), at a state where every species is present.
+   !> A species mistyped in the mechanism's table breaks one of them.
+   subroutine test_pollution_conservation(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: nitrogen(20) = [1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 1, 2]
+      real(dp), parameter :: carbon(20) = [0, 0, 0, 0, 0, 0, 1, 1, 2, 1, 2, 1, 2, 1, 0, 0, 0, 0, 0, 0]
+      real(dp), parameter :: sulphur(20) = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0]
+      real(dp), parameter :: atoms(20, 3) = reshape([nitrogen, carbon, sulphur], [20, 3])
+      type(pollution_type) :: problem
+      real(dp) :: u(20), part(20)
+      integer :: i, which, element
+
+      problem = new_pollution()
+      u = problem%u0 + 0.01_dp*(1.0_dp + sin(1.7_dp*[(i, i=1, 20)]))
+      do which = 1, 2
+         if (which == 1) then
+            call problem%f(0.0_dp, u, part)
+         else
+            call problem%g(0.0_dp, u, part)
+         end if
+         do element = 1, 3
+            call check(error, abs(dot_product(atoms(:, element), part)) <= &
+               1.0e-14_dp*dot_product(atoms(:, element), abs(part)), &
+               merge("f", "g", which == 1)//" does not conserve element "//char(48 + element))
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine test_pollution_conservation
+
+   !> MEDAKZO's band Jacobians of f, g and F (jac_f_band, jac_g_band, jac_band) against
+   !> central differences of f, g and F, on 7 points and on the published 200, before and
+   !> after the boundary value drops (t = 0.3, 7), at the initial state and a perturbed
+   !> one; the differences vanish outside the band. f and g are bilinear and affine, so
+   !> the differences are exact but for rounding: 1e-7 of the largest entry.
+   subroutine test_medakzo_band_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(medical_akzo_type) :: problem
+      real(dp), allocatable :: u(:)
+      integer :: size_case, which, state, time, i
+
+      do size_case = 1, 2
+         problem = new_medical_akzo(merge(7, 200, size_case == 1))
+         do state = 1, 2
+            u = problem%u0
+            if (state == 2) u = u + 0.01_dp*(1.0_dp + abs(u))*[(sin(1.3_dp*i), i=1, size(u))]
+            do time = 1, 2
+               do which = 1, 3
+                  call compare_band_central(error, problem, merge(0.3_dp, 7.0_dp, time == 1), u, which)
+                  if (allocated(error)) return
+               end do
+            end do
+         end do
+      end do
+   end subroutine test_medakzo_band_jacobians
+
+   !> MEDAKZO declares g linear: g(t, U) = A U + b(t) with A constant. Its band Jacobian
+   !> is the same at every time and state (bit for bit), and g(t, U) - g(t, 0) = A U to
+   !> rounding (1e-13 of |A| |U|) before and after the boundary value drops.
+   subroutine test_medakzo_linear_g(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(medical_akzo_type) :: problem
+      real(dp), allocatable :: u(:), band(:, :), other(:, :), g(:), g0(:), au(:), scale(:)
+      real(dp) :: t
+      integer :: n, i, j, k, lower, upper, time
+
+      problem = new_medical_akzo()
+      call check(error, problem%linear_g, "MEDAKZO should declare g linear")
+      if (allocated(error)) return
+      n = size(problem%u0)
+      call problem%bandwidths(n, lower, upper)
+      allocate (band(lower + upper + 1, n), other(lower + upper + 1, n), g(n), g0(n), au(n), scale(n))
+      u = problem%u0 + 0.3_dp*[(sin(0.9_dp*i), i=1, n)]
+      call problem%jac_g_band(0.3_dp, problem%u0, band)
+      call problem%jac_g_band(7.0_dp, u, other)
+      call check(error, all(band == other), "dg/dU changes with t or U")
+      if (allocated(error)) return
+      do time = 1, 2
+         t = merge(0.3_dp, 7.0_dp, time == 1)
+         call problem%g(t, u, g)
+         call problem%g(t, 0.0_dp*u, g0)
+         au = 0.0_dp
+         scale = 0.0_dp
+         do j = 1, n
+            do k = max(1, j - upper), min(n, j + lower)
+               au(k) = au(k) + band(upper + 1 + k - j, j)*u(j)
+               scale(k) = scale(k) + abs(band(upper + 1 + k - j, j)*u(j))
+            end do
+         end do
+         call check(error, all(abs(g - g0 - au) <= 1.0e-13_dp*scale + tiny(1.0_dp)), &
+            "g(t, U) - g(t, 0) differs from A U")
+         if (allocated(error)) return
+      end do
+   end subroutine test_medakzo_linear_g
+
+   !> A band Jacobian (which = 1: jac_f_band, 2: jac_g_band, 3: jac_band) against central
+   !> differences of f, g or F = rhs; the differences must vanish outside the band.
+   subroutine compare_band_central(error, problem, t, u, which)
+      type(error_type), allocatable, intent(out) :: error
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, u(:)
+      integer, intent(in) :: which
+      character(len=*), parameter :: names(3) = ["jac_f_band", "jac_g_band", "jac_band  "]
+      real(dp), allocatable :: band(:, :), differences(:, :)
+      real(dp) :: worst, entry
+      integer :: i, j, n, lower, upper
+
+      n = size(u)
+      call problem%bandwidths(n, lower, upper)
+      allocate (band(lower + upper + 1, n))
+      if (which == 1) call problem%jac_f_band(t, u, band)
+      if (which == 2) call problem%jac_g_band(t, u, band)
+      if (which == 3) call problem%jac_band(t, u, band)
+      differences = central_differences(problem, t, u, which)
+      worst = 0.0_dp
+      do j = 1, n
+         do i = 1, n
+            entry = 0.0_dp
+            if (i - j <= lower .and. j - i <= upper) entry = band(upper + 1 + i - j, j)
+            worst = max(worst, abs(differences(i, j) - entry))
+         end do
+      end do
+      call check(error, worst/max(1.0_dp, maxval(abs(band))) < 1.0e-7_dp, trim(names(which))// &
+         " differs from central differences at t = "//merge("0.3", "7  ", t < 1.0_dp)//", n = "// &
+         merge("14 ", "400", n == 14))
+   end subroutine compare_band_central
 
    function dense_jacobian_structure(self, n) result(structure)
       class(dense_brusselator), intent(in) :: self

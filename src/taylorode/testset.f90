@@ -1,8 +1,9 @@
 !> The classic stiff test set as ready problems (each a `test_problem_type`: span,
 !> initial state, recommended tolerances, published solution): Van der Pol (the
 !> paper's problem, both splittings and initial conditions), the linear test
-!> equation, Robertson, HIRES, OREGO, E5, the banded Brusselator and
-!> Prothero-Robinson, and `new_test_problem` to create any of them by name.
+!> equation, Robertson, HIRES, OREGO, E5, the banded Brusselator, Prothero-Robinson,
+!> POLLU (air pollution chemistry) and the banded Medical Akzo Nobel problem, and
+!> `new_test_problem` to create any of them by name.
 module taylorode_testset
    use taylorode_testset_test_problem, only: test_problem_type
    use taylorode_testset_van_der_pol, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
@@ -14,6 +15,8 @@ module taylorode_testset
    use taylorode_testset_e5, only: e5_type, new_e5
    use taylorode_testset_brusselator, only: brusselator_type, new_brusselator
    use taylorode_testset_prothero_robinson, only: prothero_robinson_type, new_prothero_robinson
+   use taylorode_testset_pollution, only: pollution_type, new_pollution
+   use taylorode_testset_medical_akzo, only: medical_akzo_type, new_medical_akzo
    use taylorode_testset_registry, only: new_test_problem, test_problem_names, test_problem_count
    implicit none
    private
@@ -24,6 +27,7 @@ module taylorode_testset
    public :: linear_test_type, new_linear_test
    public :: robertson_type, new_robertson, hires_type, new_hires, orego_type, new_orego, e5_type, &
       new_e5, brusselator_type, new_brusselator, prothero_robinson_type, new_prothero_robinson
+   public :: pollution_type, new_pollution, medical_akzo_type, new_medical_akzo
    public :: hires_split_exchange_stiff, hires_split_reaction_stiff, orego_split_fast_stiff, &
       orego_split_bilinear_stiff
    public :: new_test_problem, test_problem_names, test_problem_count

@@ -12,6 +12,8 @@ module taylorode_testset_registry
    use taylorode_testset_e5, only: new_e5
    use taylorode_testset_brusselator, only: new_brusselator
    use taylorode_testset_prothero_robinson, only: new_prothero_robinson
+   use taylorode_testset_pollution, only: new_pollution
+   use taylorode_testset_medical_akzo, only: new_medical_akzo
    implicit none
    private
 
@@ -19,7 +21,8 @@ module taylorode_testset_registry
 
    !> Names understood by new_test_problem
    character(len=*), parameter :: test_problem_names(*) = [character(len=17) :: &
-      "vdp", "vdp-stiff", "robertson", "hires", "orego", "e5", "brusselator", "prothero-robinson", "linear"]
+      "vdp", "vdp-stiff", "robertson", "hires", "orego", "e5", "brusselator", "prothero-robinson", "linear", &
+      "pollution", "medakzo"]
    !> Number of problems the factory knows
    integer, parameter :: test_problem_count = size(test_problem_names)
 
@@ -56,6 +59,10 @@ contains
          allocate (problem, source=new_prothero_robinson())
       case ("linear")
          allocate (problem, source=new_linear_test((-1.0_dp, 2.0_dp), (-10.0_dp, 0.0_dp)))
+      case ("pollution")
+         allocate (problem, source=new_pollution())
+      case ("medakzo")
+         allocate (problem, source=new_medical_akzo())
       case default
          valid = trim(test_problem_names(1))
          do i = 2, test_problem_count
