@@ -54,6 +54,10 @@ module taylorode_integrate_stepper
    !> the part of the step before the first such component reached 0 along the line
    !> from its start value, and at least constraint_shrink_low of the step
    real(dp), parameter :: constraint_safety = 0.9_dp, constraint_shrink_low = 0.1_dp
+   !> For a scheme that amplifies errors (si-t-2): what the step's error becomes in the
+   !> next step, which no estimate or local extrapolation removes, must stay within
+   !> this fraction of the tolerance
+   real(dp), parameter :: propagation_fraction = 0.1_dp
 
    !> Work arrays and controller memory of the step attempts of one integration
    type :: stepper_type
@@ -100,6 +104,8 @@ module taylorode_integrate_stepper
       logical :: extrapolate = .false., extrapolation_ready = .false.
       !> The negative parts of the components declared nonnegative (with options%nonnegative)
       real(dp), allocatable :: violation(:)
+      !> What the error of the step becomes in the next one (schemes that amplify errors)
+      real(dp), allocatable :: propagated(:)
    contains
       !> Prepare for an integration of n unknowns with a scheme and options
       procedure :: start
@@ -157,6 +163,7 @@ contains
          end if
       end if
       call sized(self%violation, merge(n, 0, allocated(options%nonnegative)))
+      call sized(self%propagated, merge(n, 0, scheme%amplifies_errors))
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling))
       call sized(self%u_whole, size(self%u_half))
@@ -355,6 +362,10 @@ contains
          if (outcome == attempt_rejected_constraint) return
       end if
       err = self%weighted_norm(problem, options, self%delta)
+      if (scheme%amplifies_errors) then
+         call scheme%propagated_error(h, self%delta, self%propagated)
+         err = max(err, self%weighted_norm(problem, options, self%propagated)/propagation_fraction)
+      end if
       ! a rejected step shrinks h by the I controller's factor: the PI and PID terms of
       ! earlier (small) errors could otherwise ask for a larger step than the one
       ! just rejected, again and again

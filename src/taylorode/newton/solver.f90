@@ -75,6 +75,9 @@ module taylorode_newton_solver
       !> Newton matrix (approximate dr/du) at u, assembled into `matrix` (for a stacked
       !> solver: the blocks A, B, C of [[A, B], [C, I]], see `add_block`)
       procedure(newton_matrix_interface), deferred :: newton_matrix
+      !> Size, in the tolerances, of what an error of the solution becomes in the next
+      !> step beyond itself (default 0)
+      procedure :: propagated_size
    end type nonlinear_system_type
 
    !> A factored Newton matrix and what it was built for
@@ -166,6 +169,21 @@ module taylorode_newton_solver
 
 contains
 
+   !> max_i |P e|_i / tolerance_i, where P e is what an error e of the solution adds to
+   !> the next step's state beyond e itself (a scheme that evaluates a stiff part
+   !> explicitly there amplifies it: si-t-2). Newton's stop test measures its increments
+   !> with it too, so that what Newton leaves undone is small also after the next step.
+   !> The default, for systems whose errors the next step does not amplify, is 0.
+   real(dp) function propagated_size(self, error, inverse_tolerance)
+      !> The system
+      class(nonlinear_system_type), intent(inout) :: self
+      !> The error of the solution (a Newton increment)
+      real(dp), intent(in) :: error(:)
+      !> 1 / tolerance, component by component
+      real(dp), intent(in) :: inverse_tolerance(:)
+      propagated_size = 0.0_dp
+   end function propagated_size
+
    !> Allocate for systems of m unknowns whose Newton matrix has the given structure
    !> (with `stacked`: whose Newton matrix A - B C is factored as [[A, B], [C, I]], the
    !> blocks A, B, C of that structure).
@@ -252,7 +270,8 @@ contains
    !> slowly to converge within the iteration limit. Each iteration costs one
    !> residual and one LU solve. Converged when the error left, estimated as
    !> theta/(1 - theta) max_i |increment_i| / tolerance_i, is at most 1 (or, without
-   !> settings%estimate_error, when every |increment_i| <= tolerance_i).
+   !> settings%estimate_error, when every |increment_i| <= tolerance_i); an increment is
+   !> measured with what the next step makes of it (`propagated_size`) when that is larger.
    !> A failure is reported by its code alone (no message is built, nothing is
    !> allocated): status_singular_matrix, status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
@@ -343,6 +362,8 @@ contains
             end if
             size_now = max(size_now, abs(self%increment(i))*self%inverse_tolerance(i))
          end do
+         ! an increment the next step would amplify counts with what it becomes there
+         size_now = max(size_now, system%propagated_size(self%increment, self%inverse_tolerance))
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
          known = size_before > 0.0_dp

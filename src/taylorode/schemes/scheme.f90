@@ -74,6 +74,10 @@ module taylorode_schemes_scheme
       !> Degree of the continuous extension the scheme supplies through `dense_output`
       !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
       integer :: dense_degree = 0
+      !> Whether an error of the state a step starts from reaches the new state amplified
+      !> beyond what the stability function says (si-t-2: its h^2/2 J_f0 F0 evaluates the
+      !> stiff g at the start explicitly); `propagated_error` says by how much
+      logical :: amplifies_errors = .false.
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -101,6 +105,8 @@ module taylorode_schemes_scheme
       procedure :: dense_output
       !> Estimate of the local error of the step just taken (default: none)
       procedure :: step_error
+      !> What an error of the state the step just taken ended in adds to the next step
+      procedure :: propagated_error
    end type scheme_type
 
    abstract interface
@@ -351,6 +357,21 @@ contains
       error = 0.0_dp
       call set_code(stat, status_invalid_argument)
    end subroutine step_error
+
+   !> propagated = P error: what an error of the state the step just taken (size h) ended
+   !> in adds to the state of a next step like it, beyond the error itself, for schemes
+   !> that declare `amplifies_errors`; the default leaves propagated at 0.
+   subroutine propagated_error(self, h, error, propagated)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> Size of the step just taken
+      real(dp), intent(in) :: h
+      !> The error (an estimate of the step's)
+      real(dp), contiguous, intent(in) :: error(:)
+      !> What it adds to the next step's state
+      real(dp), contiguous, intent(out) :: propagated(:)
+      propagated = 0.0_dp
+   end subroutine propagated_error
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then

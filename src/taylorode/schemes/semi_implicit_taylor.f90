@@ -14,6 +14,14 @@
 !> si-t-2-paper), whose Schur complement they are: no product of Jacobians is formed,
 !> and the solves keep their rounding errors at the size of h |lambda| instead of
 !> (h |lambda|)^2 (see taylorode_newton_solver).
+!>
+!> si-t-2 evaluates the stiff g at the start of its step explicitly, in h^2/2 J_f0 F0:
+!> an error e of the state it starts from reaches the new state as e + h^2/2 J_f J_g e
+!> (besides what the stability function does with it), and with g stiff the second
+!> term can exceed e by far (Van der Pol, paper split, h = 5: 2.6e4 times), as no
+!> estimate of the step's own error sees. Its step (through `propagated_error`) and
+!> its Newton increments (through the system's `propagated_size`) are therefore also
+!> measured by what they become in the next step.
 module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument
@@ -54,9 +62,13 @@ module taylorode_schemes_semi_implicit_taylor
       !> Whether jac_g0 and jac_g1 hold dg/dU of a problem with linear g (kept for the
       !> integration)
       logical :: jac_g0_constant = .false., jac_g1_constant = .false.
+      !> J_g0 e, then h^2/2 J_f0 J_g0 e (si-t-2's propagated error)
+      real(dp), allocatable :: stiff_part(:), propagated(:)
    contains
       procedure :: residual => semi_implicit_residual
       procedure :: newton_matrix => semi_implicit_matrix
+      !> si-t-2: the size of h^2/2 J_f0 J_g0 e in the tolerances
+      procedure :: propagated_size => semi_implicit_propagated_size
    end type semi_implicit_system_type
 
    !> One member of the semi-implicit Taylor family, with its embedded partner
@@ -88,6 +100,8 @@ module taylorode_schemes_semi_implicit_taylor
       procedure :: stability => semi_implicit_stability
       !> si-t-2: the filtered trapezoidal defect of the step
       procedure :: step_error => semi_implicit_step_error
+      !> si-t-2: h^2/2 J_f0 J_g0 e
+      procedure :: propagated_error => semi_implicit_propagated_error
    end type semi_implicit_taylor_type
 
 contains
@@ -126,6 +140,7 @@ contains
          self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 [J_f0 F0 - J_g0 F(U1)]"
          self%newton_matrices = "I - h J_g(U1) + h^2/2 J_g0 (J_f0 + J_g(U1))"
          self%estimates_step_error = .true.
+         self%amplifies_errors = .true.
       end select
    end function new_semi_implicit_taylor
 
@@ -159,8 +174,8 @@ contains
       allocate (self%f0(n), self%g0(n), self%u_start(n))
       call forget_start(self)
       associate (system => self%system)
-         if (allocated(system%f1)) deallocate (system%f1, system%g1)
-         allocate (system%f1(n), system%g1(n))
+         if (allocated(system%f1)) deallocate (system%f1, system%g1, system%stiff_part, system%propagated)
+         allocate (system%f1(n), system%g1(n), system%stiff_part(n), system%propagated(n))
          do k = 1, size(system%known)
             if (allocated(system%known(k)%values)) deallocate (system%known(k)%values)
          end do
@@ -353,6 +368,42 @@ contains
          self%known_jacobians = .false.
       end associate
    end subroutine semi_implicit_step_error
+
+   !> propagated = h^2/2 J_f0 J_g0 error with the Jacobians of the step just taken (0
+   !> before si-t-2 has taken one).
+   subroutine semi_implicit_propagated_error(self, h, error, propagated)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      real(dp), intent(in) :: h
+      real(dp), contiguous, intent(in) :: error(:)
+      real(dp), contiguous, intent(out) :: propagated(:)
+      propagated = 0.0_dp
+      if (.not. self%ready(si_t_2)) return
+      call amplify(self%system, h, error, propagated)
+   end subroutine semi_implicit_propagated_error
+
+   !> max_i |h^2/2 J_f0 J_g0 e|_i / tolerance_i for si-t-2 (0 for the other members).
+   real(dp) function semi_implicit_propagated_size(self, error, inverse_tolerance) result(size_p)
+      class(semi_implicit_system_type), intent(inout) :: self
+      real(dp), intent(in) :: error(:), inverse_tolerance(:)
+      integer :: i
+      size_p = 0.0_dp
+      if (self%member /= si_t_2) return
+      call amplify(self, self%h, error, self%propagated)
+      do i = 1, size(error)
+         size_p = max(size_p, abs(self%propagated(i))*inverse_tolerance(i))
+      end do
+   end function semi_implicit_propagated_size
+
+   !> propagated = h^2/2 J_f0 J_g0 error.
+   subroutine amplify(system, h, error, propagated)
+      type(semi_implicit_system_type), intent(inout) :: system
+      real(dp), intent(in) :: h, error(:)
+      real(dp), intent(out) :: propagated(:)
+      system%stiff_part = 0.0_dp
+      call system%jac_g0%multiply_add(1.0_dp, error, system%stiff_part)
+      propagated = 0.0_dp
+      call system%jac_f0%multiply_add(0.5_dp*h*h, system%stiff_part, propagated)
+   end subroutine amplify
 
    subroutine semi_implicit_residual(self, problem, u, r, counters)
       class(semi_implicit_system_type), intent(inout) :: self
