@@ -75,9 +75,9 @@ module taylorode_newton_solver
       !> Newton matrix (approximate dr/du) at u, assembled into `matrix` (for a stacked
       !> solver: the blocks A, B, C of [[A, B], [C, I]], see `add_block`)
       procedure(newton_matrix_interface), deferred :: newton_matrix
-      !> Size, in the tolerances, of what an error of the solution becomes in the next
-      !> step beyond itself (default 0)
-      procedure :: propagated_size
+      !> What an error of the solution adds to the next step's equation, beyond itself
+      !> (default: nothing)
+      procedure :: propagate
    end type nonlinear_system_type
 
    !> A factored Newton matrix and what it was built for
@@ -113,6 +113,8 @@ module taylorode_newton_solver
       real(dp) :: last_contraction = 0.0_dp
       !> Residual, then the Newton increment
       real(dp), allocatable :: increment(:)
+      !> What the increment becomes in the next step (systems that propagate errors)
+      real(dp), allocatable :: propagated(:)
       !> 1 / tolerance of the current solve (the increments are measured by products)
       real(dp), allocatable :: inverse_tolerance(:)
       !> The kept factorization the last solve used
@@ -169,20 +171,23 @@ module taylorode_newton_solver
 
 contains
 
-   !> max_i |P e|_i / tolerance_i, where P e is what an error e of the solution adds to
-   !> the next step's state beyond e itself (a scheme that evaluates a stiff part
-   !> explicitly there amplifies it: si-t-2). Newton's stop test measures its increments
-   !> with it too, so that what Newton leaves undone is small also after the next step.
-   !> The default, for systems whose errors the next step does not amplify, is 0.
-   real(dp) function propagated_size(self, error, inverse_tolerance)
+   !> propagated = P e, what an error e of the solution adds to the right-hand side of
+   !> the next step's equation beyond e itself (a scheme that evaluates a stiff part
+   !> explicitly there amplifies it: si-t-2), with active = .true.; Newton's stop test
+   !> then also measures its increments by M^(-1) P e, what they become in the next
+   !> step, so that what Newton leaves undone stays small there too. The default, for
+   !> systems whose errors the next step does not amplify, sets active = .false.
+   subroutine propagate(self, error, propagated, active)
       !> The system
       class(nonlinear_system_type), intent(inout) :: self
       !> The error of the solution (a Newton increment)
       real(dp), intent(in) :: error(:)
-      !> 1 / tolerance, component by component
-      real(dp), intent(in) :: inverse_tolerance(:)
-      propagated_size = 0.0_dp
-   end function propagated_size
+      !> P e
+      real(dp), intent(out) :: propagated(:)
+      !> Whether the system propagates errors (else propagated is not set)
+      logical, intent(out) :: active
+      active = .false.
+   end subroutine propagate
 
    !> Allocate for systems of m unknowns whose Newton matrix has the given structure
    !> (with `stacked`: whose Newton matrix A - B C is factored as [[A, B], [C, I]], the
@@ -206,8 +211,8 @@ contains
       call new_linear_solver(self%kept(1)%linear, merge(2*m, m, self%stacked), self%structure, stat)
       ! a second factorization is allocated again when a solve asks for it
       self%kept(2) = kept_factorization_type()
-      if (allocated(self%increment)) deallocate (self%increment, self%inverse_tolerance)
-      allocate (self%increment(m), self%inverse_tolerance(m))
+      if (allocated(self%increment)) deallocate (self%increment, self%inverse_tolerance, self%propagated)
+      allocate (self%increment(m), self%inverse_tolerance(m), self%propagated(m))
       if (allocated(self%stacked_vector)) deallocate (self%stacked_vector)
       if (self%stacked) allocate (self%stacked_vector(2*m))
       call self%forget()
@@ -271,7 +276,7 @@ contains
    !> residual and one LU solve. Converged when the error left, estimated as
    !> theta/(1 - theta) max_i |increment_i| / tolerance_i, is at most 1 (or, without
    !> settings%estimate_error, when every |increment_i| <= tolerance_i); an increment is
-   !> measured with what the next step makes of it (`propagated_size`) when that is larger.
+   !> measured with what the next step makes of it (`propagate`) when that is larger.
    !> A failure is reported by its code alone (no message is built, nothing is
    !> allocated): status_singular_matrix, status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
@@ -295,7 +300,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, rebuilt, known
+      logical :: rebuild, rebuilt, known, propagates
       real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
@@ -363,7 +368,14 @@ contains
             size_now = max(size_now, abs(self%increment(i))*self%inverse_tolerance(i))
          end do
          ! an increment the next step would amplify counts with what it becomes there
-         size_now = max(size_now, system%propagated_size(self%increment, self%inverse_tolerance))
+         call system%propagate(self%increment, self%propagated, propagates)
+         if (propagates) then
+            call self%solve_linear(slot, self%propagated, stat)
+            if (stat%code /= status_ok) return
+            do i = 1, m
+               size_now = max(size_now, abs(self%propagated(i))*self%inverse_tolerance(i))
+            end do
+         end if
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
          known = size_before > 0.0_dp

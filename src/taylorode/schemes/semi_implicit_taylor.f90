@@ -20,8 +20,10 @@
 !> (besides what the stability function does with it), and with g stiff the second
 !> term can exceed e by far (Van der Pol, paper split, h = 5: 2.6e4 times), as no
 !> estimate of the step's own error sees. Its step (through `propagated_error`) and
-!> its Newton increments (through the system's `propagated_size`) are therefore also
-!> measured by what they become in the next step.
+!> its Newton increments (through the system's `propagate`) are therefore also
+!> measured by what they become in the next step, M^(-1) h^2/2 J_f J_g e (the next
+!> step's implicit solve damps what lands in stiff directions: without M^(-1),
+!> Robertson to 1e11 took 100 times the steps for nothing).
 module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument
@@ -62,13 +64,13 @@ module taylorode_schemes_semi_implicit_taylor
       !> Whether jac_g0 and jac_g1 hold dg/dU of a problem with linear g (kept for the
       !> integration)
       logical :: jac_g0_constant = .false., jac_g1_constant = .false.
-      !> J_g0 e, then h^2/2 J_f0 J_g0 e (si-t-2's propagated error)
-      real(dp), allocatable :: stiff_part(:), propagated(:)
+      !> J_g0 e (si-t-2's propagated error)
+      real(dp), allocatable :: stiff_part(:)
    contains
       procedure :: residual => semi_implicit_residual
       procedure :: newton_matrix => semi_implicit_matrix
-      !> si-t-2: the size of h^2/2 J_f0 J_g0 e in the tolerances
-      procedure :: propagated_size => semi_implicit_propagated_size
+      !> si-t-2: h^2/2 J_f0 J_g0 e
+      procedure :: propagate => semi_implicit_propagate
    end type semi_implicit_system_type
 
    !> One member of the semi-implicit Taylor family, with its embedded partner
@@ -174,8 +176,8 @@ contains
       allocate (self%f0(n), self%g0(n), self%u_start(n))
       call forget_start(self)
       associate (system => self%system)
-         if (allocated(system%f1)) deallocate (system%f1, system%g1, system%stiff_part, system%propagated)
-         allocate (system%f1(n), system%g1(n), system%stiff_part(n), system%propagated(n))
+         if (allocated(system%f1)) deallocate (system%f1, system%g1, system%stiff_part)
+         allocate (system%f1(n), system%g1(n), system%stiff_part(n))
          do k = 1, size(system%known)
             if (allocated(system%known(k)%values)) deallocate (system%known(k)%values)
          end do
@@ -369,30 +371,31 @@ contains
       end associate
    end subroutine semi_implicit_step_error
 
-   !> propagated = h^2/2 J_f0 J_g0 error with the Jacobians of the step just taken (0
-   !> before si-t-2 has taken one).
+   !> propagated = M^(-1) h^2/2 J_f0 J_g0 error, with the Jacobians and the Newton
+   !> matrix M of the step just taken: what an error of its state adds to the next step
+   !> (0 before si-t-2 has taken one).
    subroutine semi_implicit_propagated_error(self, h, error, propagated)
       class(semi_implicit_taylor_type), intent(inout) :: self
       real(dp), intent(in) :: h
       real(dp), contiguous, intent(in) :: error(:)
       real(dp), contiguous, intent(out) :: propagated(:)
+      type(status_type) :: filter_stat
       propagated = 0.0_dp
       if (.not. self%ready(si_t_2)) return
       call amplify(self%system, h, error, propagated)
+      call self%newton(si_t_2)%apply_inverse(propagated, self%counters, filter_stat)
+      if (filter_stat%code /= status_ok) propagated = 0.0_dp
    end subroutine semi_implicit_propagated_error
 
-   !> max_i |h^2/2 J_f0 J_g0 e|_i / tolerance_i for si-t-2 (0 for the other members).
-   real(dp) function semi_implicit_propagated_size(self, error, inverse_tolerance) result(size_p)
+   !> si-t-2: propagated = h^2/2 J_f0 J_g0 error (the other members propagate nothing).
+   subroutine semi_implicit_propagate(self, error, propagated, active)
       class(semi_implicit_system_type), intent(inout) :: self
-      real(dp), intent(in) :: error(:), inverse_tolerance(:)
-      integer :: i
-      size_p = 0.0_dp
-      if (self%member /= si_t_2) return
-      call amplify(self, self%h, error, self%propagated)
-      do i = 1, size(error)
-         size_p = max(size_p, abs(self%propagated(i))*inverse_tolerance(i))
-      end do
-   end function semi_implicit_propagated_size
+      real(dp), intent(in) :: error(:)
+      real(dp), intent(out) :: propagated(:)
+      logical, intent(out) :: active
+      active = self%member == si_t_2
+      if (active) call amplify(self, self%h, error, propagated)
+   end subroutine semi_implicit_propagate
 
    !> propagated = h^2/2 J_f0 J_g0 error.
    subroutine amplify(system, h, error, propagated)
