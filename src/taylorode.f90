@@ -38,7 +38,7 @@ module taylorode
       estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    use taylorode_integrate_history, only: step_history_type, write_history_csv, attempt_accepted, &
       attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, &
-      attempt_rejected_constraint, attempt_name
+      attempt_rejected_constraint, attempt_rejected_output, attempt_name
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrate, integrator_type
    use taylorode_integrate_ensemble, only: integrate_ensemble, ensemble_threads
@@ -65,6 +65,6 @@ module taylorode
    public :: estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    public :: step_history_type, write_history_csv, attempt_accepted, attempt_rejected_error, &
       attempt_failed_newton, attempt_failed_nonfinite, attempt_failed_evaluation, attempt_rejected_constraint, &
-      attempt_name
+      attempt_rejected_output, attempt_name
 
 end module taylorode

@@ -87,7 +87,8 @@ contains
          new_unittest("tolerance-per-component", test_tolerance_per_component), &
          new_unittest("error-weights-of-your-own", test_error_weights), &
          new_unittest("linear-g-declared", test_linear_g), &
-         new_unittest("nonnegative-components", test_nonnegative) &
+         new_unittest("nonnegative-components", test_nonnegative), &
+         new_unittest("dense-output-error-test", test_dense_output_error) &
          ]
    end subroutine collect_features
 
@@ -335,8 +336,10 @@ contains
    !> Dense output costs radau5 nothing: with 301 output times on Van der Pol (mu = 10)
    !> it takes the same steps with the same work as without (its collocation
    !> polynomial needs no evaluation), and the outputs agree with a tight run's to the
-   !> tolerance. i-t-2 (the quadratic through three successive states) pays one F, at
-   !> the start, where its first step has no step before it.
+   !> tolerance. i-t-2's dense output (the cubic through four successive states) needs
+   !> one F, at the start, and retries the steps whose interpolant fails its error test
+   !> at an output time inside them to end there: measured 109 accepted steps against
+   !> 102 (4 retried); bound 10 %.
    subroutine test_dense_output_costs(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
@@ -346,7 +349,6 @@ contains
       type(integration_stats_type) :: plain, dense, tight
       type(status_type) :: stat
       real(dp) :: u(2), t_out(301), u_out(2, 301), u_tight(2, 301)
-      integer(i8) :: extra
       integer :: k
 
       problem = new_van_der_pol(10.0_dp)
@@ -368,12 +370,17 @@ contains
          call integrate(problem, scheme, 0.0_dp, 3.0_dp, u, options, dense, stat, t_out=t_out, u_out=u_out)
          call check(error, stat%code, status_ok, trim(names(k))//" with t_out: "//stat_message(stat))
          if (allocated(error)) return
-         extra = merge(0_i8, 1_i8, k == 1)
-         call check(error, dense%accepted_steps == plain%accepted_steps .and. dense%work%f_evaluations == &
-            plain%work%f_evaluations + extra .and. dense%work%lu_factorizations == plain%work%lu_factorizations &
-            .and. dense%work%newton_iterations == plain%work%newton_iterations, trim(names(k))// &
-            ": dense output should cost "//format_integer(int(extra))//" evaluations, it cost "// &
-            format_integer(int(dense%work%f_evaluations - plain%work%f_evaluations)))
+         if (k == 1) then
+            call check(error, dense%accepted_steps == plain%accepted_steps .and. dense%work%f_evaluations == &
+               plain%work%f_evaluations .and. dense%work%lu_factorizations == plain%work%lu_factorizations &
+               .and. dense%work%newton_iterations == plain%work%newton_iterations, trim(names(k))// &
+               ": dense output should cost nothing, it cost "// &
+               format_integer(int(dense%work%f_evaluations - plain%work%f_evaluations))//" evaluations")
+         else
+            call check(error, 10*dense%accepted_steps <= 11*plain%accepted_steps, trim(names(k))// &
+               ": dense output should cost at most 10 % more steps, it took "// &
+               format_integer(int(dense%accepted_steps))//" against "//format_integer(int(plain%accepted_steps)))
+         end if
          if (allocated(error)) return
          call check(error, maxval(abs(u_out - u_tight)) <= 1.0e-3_dp, trim(names(k))//": dense output off by "// &
             format_real(maxval(abs(u_out - u_tight))))
@@ -544,6 +551,42 @@ contains
       call integrate(decay, scheme, 0.0_dp, 0.2_dp, v, options, stats, stat)
       call check(error, stat%code, status_invalid_argument, "a negative initial component declared nonnegative")
    end subroutine test_nonnegative
+
+   !> The dense output passes an error test at the output times inside a step.
+   !> Prothero-Robinson (u' = L (u - sin t) + cos t, L = -1e6) at rtol = atol = 1e-4:
+   !> the end of a step lies on sin t whatever its length, so radau5 took a step of 7.8
+   !> across [1.95, 9.77], and its collocation polynomial through that step missed sin t
+   !> at t = 5.25 .. 5.75 by more than |sin t| itself (6000 tolerances). The error of the
+   !> interpolant is estimated from one more state of the solution; a step whose
+   !> estimate at an output time exceeds the tolerance is retried to end there. Now
+   !> every output of radau5 and i-t-2 is within 100 tolerances of sin t (the accuracy
+   !> suite's bound), and radau5 retried some steps for it.
+   subroutine test_dense_output_error(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
+      type(prothero_robinson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), t_out(41), u_out(1, 41), worst
+      integer :: k
+      problem = new_prothero_robinson()
+      t_out = [(0.25_dp*real(k - 1, dp), k=1, 41)]
+      options = integrator_options_type(rtol=1.0e-4_dp, atol=1.0e-4_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat, t_out=t_out, u_out=u_out)
+         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         worst = maxval(abs(u_out(1, :) - sin(t_out))/(options%atol + options%rtol*abs(sin(t_out))))
+         call check(error, worst <= 100.0_dp .and. (k > 1 .or. stats%rejected_output > 0), trim(names(k))// &
+            ": dense output off by "//format_real(worst)//" tolerances, "// &
+            format_integer(int(stats%rejected_output))//" steps retried to end at an output time")
+         if (allocated(error)) return
+      end do
+   end subroutine test_dense_output_error
 
    subroutine decay_f(self, t, u, dudt)
       class(decay_type), intent(inout) :: self

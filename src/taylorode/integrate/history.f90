@@ -11,7 +11,7 @@ module taylorode_integrate_history
 
    public :: step_history_type, write_history_csv
    public :: attempt_accepted, attempt_rejected_error, attempt_failed_newton, attempt_failed_nonfinite, &
-      attempt_failed_evaluation, attempt_rejected_constraint
+      attempt_failed_evaluation, attempt_rejected_constraint, attempt_rejected_output
    public :: attempt_name
 
    !> The step passed the error test
@@ -26,6 +26,8 @@ module taylorode_integrate_history
    integer, parameter :: attempt_failed_evaluation = 4
    !> A component declared nonnegative went below 0 by more than the step may set right
    integer, parameter :: attempt_rejected_constraint = 5
+   !> The step passed the error test, but its dense output at an output time inside it did not
+   integer, parameter :: attempt_rejected_output = 6
 
    !> Column names before the state columns
    character(len=*), parameter :: header = "step,t,h,err,outcome,newton_iterations"
@@ -94,6 +96,7 @@ contains
       case (attempt_failed_nonfinite); name = "failed_nonfinite"
       case (attempt_failed_evaluation); name = "failed_evaluation"
       case (attempt_rejected_constraint); name = "rejected_constraint"
+      case (attempt_rejected_output); name = "rejected_output"
       case default; name = "unknown"
       end select
    end function outcome_word

@@ -20,7 +20,7 @@ module taylorode_integrate_integrator
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_integrate_events, only: event_functions_type
    use taylorode_integrate_history, only: step_history_type, attempt_accepted, attempt_rejected_error, &
-      attempt_failed_nonfinite, attempt_failed_evaluation, attempt_rejected_constraint
+      attempt_failed_nonfinite, attempt_failed_evaluation, attempt_rejected_constraint, attempt_rejected_output
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -32,6 +32,9 @@ module taylorode_integrate_integrator
    real(dp), parameter :: roundoff_steps = 2.0_dp
    !> What a call with only one of t_out and u_out is told
    character(len=*), parameter :: outputs_together = "integrate: t_out and u_out go together"
+   !> States kept for the dense output: the current one and the starts of three steps
+   !> before (the interpolant through four states and its error estimate)
+   integer, parameter :: ring_size = 4
 
    !> An integration that can be continued: `init` once, then `advance_to` as often as
    !> needed with the same problem type and scheme. Between calls the caller may
@@ -56,6 +59,13 @@ module taylorode_integrate_integrator
       !> The last accepted step (states and derivatives at both ends), kept when dense
       !> output, events or an observer need it
       type(accepted_step_type) :: step
+      !> The last states of the solution (when dense output, events or an observer need
+      !> them), newest first from ring_newest: the current state and the starts of the
+      !> last three accepted steps, for the interpolant through states and the dense
+      !> output's error estimate
+      real(dp) :: ring_t(ring_size) = 0.0_dp
+      real(dp), allocatable :: ring_u(:, :)
+      integer :: ring_newest = 1, ring_count = 0
    contains
       !> Check everything and prepare the scheme at (t0, u0)
       procedure :: init
@@ -166,6 +176,7 @@ contains
       self%ready = .false.
       ! the last accepted step of an earlier integration does not precede the first of this one
       self%step%degree = 0
+      self%ring_count = 0
       self%total = integration_stats_type()
       self%total%t_reached = t0
       self%t = t0
@@ -316,7 +327,7 @@ contains
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
       integer :: failures, troubles, outcome, next_output
-      logical :: last, need_step, stop_here, rhs_pending
+      logical :: last, need_step, stop_here, rhs_pending, prebuilt
       character(len=400) :: text
 
       call system_clock(clock_start, clock_rate)
@@ -337,6 +348,7 @@ contains
       if (stat%code == status_ok .and. need_step) then
          call self%step%reserve(self%n, scheme%dense_degree)
          if (.not. rhs_pending) call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
+         call start_ring()
       end if
       if (stat%code == status_ok .and. present(events)) call events%start(t, u, stat)
       if (stat%code /= status_ok) then
@@ -344,6 +356,7 @@ contains
          return
       end if
       next_output = 1
+      prebuilt = .false.
       if (present(t_out)) call emit_outputs_up_to(t)
       call self%stepper%continue_from(u)
 
@@ -374,6 +387,15 @@ contains
          err = nan
          call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
 
+         ! the dense output at an output time inside the step must pass its error test
+         ! too: else the step is taken back and retried to end at that time
+         if (outcome == attempt_accepted .and. present(t_out)) then
+            if (output_rejected(merge(t_target, t + h, last))) then
+               call self%stepper%undo_acceptance()
+               outcome = attempt_rejected_output
+               h_next = t_out(next_output) - t
+            end if
+         end if
          select case (outcome)
          case (attempt_accepted)
             ! the first step after a failed attempt does not grow h again at once
@@ -401,18 +423,22 @@ contains
                end if
             end if
             call_stats%t_reached = t
+            if (need_step) call push_ring(t, u)
             h = h_next
             ! a step cut to land on the target does not shrink the next call's first step
             if (last) h = min(max(h_next, h_natural), self%options%h_max)
             if (stop_here) exit
-         case (attempt_rejected_error, attempt_rejected_constraint)
+         case (attempt_rejected_error, attempt_rejected_constraint, attempt_rejected_output)
             failures = 0
             call record_attempt(err, outcome, newton_before, u)
-            if (outcome == attempt_rejected_error) then
+            select case (outcome)
+            case (attempt_rejected_error)
                call_stats%rejected_error = call_stats%rejected_error + 1
-            else
+            case (attempt_rejected_constraint)
                call_stats%rejected_constraint = call_stats%rejected_constraint + 1
-            end if
+            case default
+               call_stats%rejected_output = call_stats%rejected_output + 1
+            end select
             h = h_next
          case default
             ! failed attempt: retry from the same state with a smaller step
@@ -512,14 +538,12 @@ contains
          end if
       end subroutine check_call
 
-      !> The accepted step [t, t_end_of_step] into self%step with its dense output (the
-      !> scheme's own; else for an implicit scheme the quadratic through the states of
-      !> this step and the one before, for an explicit one the cubic Hermite interpolant
-      !> from F at both ends), then
-      !> events (a terminal crossing shortens it), dense output and the observer.
+      !> The accepted step [t, t_end_of_step] into self%step with its dense output (unless
+      !> the dense output's error test built it already), then events (a terminal
+      !> crossing shortens it), dense output and the observer.
       subroutine accept_into_step(t_end_of_step)
          real(dp), intent(in) :: t_end_of_step
-         logical :: stop_requested, output_due, before_known
+         logical :: stop_requested, output_due
          if (scheme%dense_degree > 0 .and. .not. (present(events) .or. present(observer))) then
             ! only output times look at the step: without one inside it, nothing is needed
             output_due = next_output <= size(t_out)
@@ -530,32 +554,8 @@ contains
             end if
          end if
          associate (step => self%step)
-            ! the step before this one, when this one continues it
-            before_known = step%degree > 0 .and. step%t_end == t
-            if (before_known) before_known = all(step%u_end == u)
-            if (before_known) then
-               step%t_before = step%t_start
-               step%u_before = step%u_start
-            end if
-            step%t_start = t
-            step%h = h
-            step%t_end = t_end_of_step
-            step%u_start = u
-            step%u_end = self%stepper%u_new
-            call scheme%dense_output(t, h, step%u_end, step%nodes, step%coefficients, step%degree)
-            if (step%degree == 0 .and. scheme%implicit) then
-               if (.not. before_known) call evaluate_rhs(problem, t, step%u_start, step%rhs_start, scheme%counters)
-               call step%set_quadratic(before_known)
-               rhs_pending = .true.
-            else if (step%degree == 0) then
-               if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, scheme%counters)
-               step%rhs_start = step%rhs_end
-               call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, scheme%counters)
-               call step%set_hermite()
-               rhs_pending = .false.
-            else
-               rhs_pending = .true.
-            end if
+            if (.not. prebuilt) call build_step(t_end_of_step)
+            prebuilt = .false.
             if (present(events)) then
                call events%check_step(step, stop_here, t_stop, self%stepper%delta, stat)
                if (stat%code /= status_ok) return
@@ -572,6 +572,106 @@ contains
             end if
          end associate
       end subroutine accept_into_step
+
+      !> The step [t, t_end_of_step] to u_new into self%step with its dense output: the
+      !> scheme's own; else for an implicit scheme the polynomial through its two ends
+      !> and the starts of up to two steps before (with none, F at its start), for an
+      !> explicit one the cubic Hermite interpolant from F at both ends.
+      subroutine build_step(t_end_of_step)
+         real(dp), intent(in) :: t_end_of_step
+         integer :: before
+         associate (step => self%step)
+            step%t_start = t
+            step%h = h
+            step%t_end = t_end_of_step
+            step%u_start = u
+            step%u_end = self%stepper%u_new
+            call scheme%dense_output(t, h, step%u_end, step%nodes, step%coefficients, step%points, step%degree)
+            if (step%degree == 0 .and. scheme%implicit) then
+               before = min(self%ring_count - 1, 2)
+               if (before == 0) then
+                  call evaluate_rhs(problem, t, step%u_start, step%rhs_start, scheme%counters)
+                  call step%set_through_states()
+               else if (before == 1) then
+                  call step%set_through_states(self%ring_t(ring_slot(1)), self%ring_u(:, ring_slot(1)))
+               else
+                  call step%set_through_states(self%ring_t(ring_slot(1)), self%ring_u(:, ring_slot(1)), &
+                     self%ring_t(ring_slot(2)), self%ring_u(:, ring_slot(2)))
+               end if
+               rhs_pending = .true.
+            else if (step%degree == 0) then
+               if (rhs_pending) call evaluate_rhs(problem, t, step%u_start, step%rhs_end, scheme%counters)
+               step%rhs_start = step%rhs_end
+               call evaluate_rhs(problem, t_end_of_step, step%u_end, step%rhs_end, scheme%counters)
+               call step%set_hermite()
+               rhs_pending = .false.
+            else
+               rhs_pending = .true.
+            end if
+         end associate
+      end subroutine build_step
+
+      !> Whether the dense output of the step just accepted, [t, t_end_of_step], fails its
+      !> error test at an output time inside it: the error estimated from the newest
+      !> state the interpolant does not pass through (interpolation_error), in the
+      !> weighted norm, above 1. Without such a state (the first steps of a call that
+      !> starts anew) there is no estimate and no test.
+      logical function output_rejected(t_end_of_step)
+         real(dp), intent(in) :: t_end_of_step
+         real(dp) :: worst
+         integer :: k, extra
+         output_rejected = .false.
+         if (next_output > size(t_out)) return
+         if (.not. (t_out(next_output) > t .and. t_out(next_output) < t_end_of_step)) return
+         call build_step(t_end_of_step)
+         prebuilt = .true.
+         ! the newest state before the step that the interpolant does not pass through
+         extra = 1 + count(self%step%points(:self%step%degree) < 0.0_dp)
+         if (self%ring_count <= extra) return
+         worst = 0.0_dp
+         do k = next_output, size(t_out)
+            if (t_out(k) >= t_end_of_step) exit
+            call self%step%interpolation_error(t_out(k), self%ring_t(ring_slot(extra)), &
+               self%ring_u(:, ring_slot(extra)), self%stepper%delta)
+            worst = max(worst, self%stepper%weighted_norm(problem, self%options, self%stepper%delta))
+         end do
+         output_rejected = worst > 1.0_dp
+         prebuilt = .not. output_rejected
+         ! F at the start, which the Hermite interpolant of the retry needs, is in rhs_start
+         if (output_rejected .and. .not. rhs_pending) self%step%rhs_end = self%step%rhs_start
+      end function output_rejected
+
+      !> Start the ring of states at the current one, unless it continues the ring
+      !> (the state the last call ended in, unchanged by the caller).
+      subroutine start_ring()
+         if (allocated(self%ring_u)) then
+            if (size(self%ring_u, 1) /= self%n) deallocate (self%ring_u)
+         end if
+         if (.not. allocated(self%ring_u)) then
+            allocate (self%ring_u(self%n, ring_size))
+            self%ring_count = 0
+         end if
+         if (self%ring_count > 0) then
+            if (self%ring_t(self%ring_newest) /= t .or. any(self%ring_u(:, self%ring_newest) /= u)) &
+               self%ring_count = 0
+         end if
+         if (self%ring_count == 0) call push_ring(t, u)
+      end subroutine start_ring
+
+      !> The state at time t_new as the newest of the ring.
+      subroutine push_ring(t_new, u_new)
+         real(dp), intent(in) :: t_new, u_new(:)
+         self%ring_newest = modulo(self%ring_newest, ring_size) + 1
+         self%ring_t(self%ring_newest) = t_new
+         self%ring_u(:, self%ring_newest) = u_new
+         self%ring_count = min(self%ring_count + 1, ring_size)
+      end subroutine push_ring
+
+      !> Slot of the state `back` places before the newest.
+      integer function ring_slot(back)
+         integer, intent(in) :: back
+         ring_slot = modulo(self%ring_newest - 1 - back, ring_size) + 1
+      end function ring_slot
 
       !> Fill the output times up to t_upto: at the start of the call the current state,
       !> afterwards from the interpolant of the step just accepted.
@@ -633,6 +733,7 @@ contains
       total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
       total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation
       total%rejected_constraint = total%rejected_constraint + call_stats%rejected_constraint
+      total%rejected_output = total%rejected_output + call_stats%rejected_output
       total%work = total%work + call_stats%work
       if (call_stats%accepted_steps > 0) then
          total%h_min_accepted = min(total%h_min_accepted, call_stats%h_min_accepted)

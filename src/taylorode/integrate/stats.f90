@@ -23,6 +23,9 @@ module taylorode_integrate_stats
       integer(i8) :: rejected_evaluation = 0
       !> Steps rejected because a component declared nonnegative went below 0
       integer(i8) :: rejected_constraint = 0
+      !> Steps rejected because their dense output at an output time inside them failed
+      !> its error test (retried to end at that time)
+      integer(i8) :: rejected_output = 0
       !> Whether error weights were raised to what double precision resolves (tolerances
       !> below about 1e-14 relative ask for more than roundoff allows)
       logical :: weights_raised = .false.
@@ -45,7 +48,7 @@ contains
       class(integration_stats_type), intent(in) :: self
       integer(i8) :: n
       n = self%rejected_error + self%rejected_newton + self%rejected_nonfinite + self%rejected_evaluation + &
-         self%rejected_constraint
+         self%rejected_constraint + self%rejected_output
    end function rejected_steps
 
 end module taylorode_integrate_stats

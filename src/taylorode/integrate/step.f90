@@ -1,8 +1,8 @@
 !> One accepted step as observers, events and dense output see it: where it started
 !> and ended, the states at both ends, and the dense output between them: the
 !> scheme's own continuous extension when it supplies one (radau5: its collocation
-!> polynomial, at no extra evaluation); for the other implicit schemes the quadratic
-!> through the states at the ends of this step and at the start of the one before
+!> polynomial, at no extra evaluation); for the other implicit schemes the cubic
+!> through the states at the ends of this step and at the starts of the two before
 !> (stiff-safe: F at the end of a long stiff step multiplies the state's error in a
 !> stiff direction by h |lambda|, and an interpolant through F inherits that; states
 !> carry no such factor); for explicit schemes the cubic Hermite interpolant of the
@@ -23,8 +23,9 @@ module taylorode_integrate_step
 
    !> Degree of the cubic Hermite interpolant, the dense output of explicit schemes
    integer, parameter :: hermite_degree = 3
-   !> Degree of the interpolant through three states, the dense output of implicit
-   !> schemes that supply none of their own
+   !> Degree of the interpolant through the two ends of a step and one condition more,
+   !> the least dense output of implicit schemes that supply none of their own (one
+   !> more for each further state)
    integer, parameter :: quadratic_degree = 2
 
    !> An accepted step [t_start, t_end] of size h
@@ -42,17 +43,18 @@ module taylorode_integrate_step
       !> F = f + g at both ends, which only the cubic Hermite interpolant uses
       !> (not evaluated when the scheme supplies its own dense output)
       real(dp), allocatable :: rhs_start(:), rhs_end(:)
-      !> Start of the step before (t_before < t_start), for the quadratic through three states
-      real(dp) :: t_before = 0.0_dp
-      !> State at t_before
-      real(dp), allocatable :: u_before(:)
+      !> Interpolation points of the dense output, in theta (0:degree; a point repeated
+      !> carries a derivative condition): where it matches the scheme's values
+      real(dp), allocatable :: points(:)
    contains
       !> The solution at t in [t_start, t_end] from the dense output
       procedure :: interpolate
       !> The cubic Hermite interpolant of u_start, rhs_start, u_end, rhs_end as the dense output
       procedure :: set_hermite
-      !> The quadratic through u_before, u_start, u_end (or u_start, rhs_start, u_end) as the dense output
-      procedure :: set_quadratic
+      !> The polynomial through the step's states and up to two before it as the dense output
+      procedure :: set_through_states
+      !> Estimate of the dense output's error at t from one more state of the solution
+      procedure :: interpolation_error
       !> Work arrays for n unknowns and dense output up to a degree (allocated only when they change)
       procedure :: reserve
    end type accepted_step_type
@@ -103,6 +105,7 @@ contains
       real(dp) :: slope_start, slope_end, secant
       self%degree = hermite_degree
       self%nodes(1:3) = [0.0_dp, 0.0_dp, 1.0_dp]
+      self%points(0:3) = [0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp]
       do i = 1, size(self%u_start)
          slope_start = self%h*self%rhs_start(i)
          slope_end = self%h*self%rhs_end(i)
@@ -114,35 +117,81 @@ contains
       end do
    end subroutine set_hermite
 
-   !> The quadratic through (t_before, u_before), (t_start, u_start) and (t_end, u_end)
-   !> as the dense output (nodes 0, 1), or, when no state before is known, the one
-   !> through u_start and u_end with the slope rhs_start at the start. Its error is
-   !> O(h^3), the local error of a second-order step, and it uses no F at the end of
-   !> the step, where F of a stiff step is unreliable.
-   pure subroutine set_quadratic(self, before_known)
-      !> The step, with its states (and rhs_start when no state before is known)
+   !> The polynomial through the states at the ends of the step and at the starts of
+   !> up to two steps before (t_before > t_before2) as the dense output: the cubic
+   !> through four states, or the quadratic through three, or, with no state before,
+   !> the quadratic through the two ends with the slope rhs_start at the start. It uses
+   !> no F at the end of the step, where F of a stiff step is unreliable (it multiplies
+   !> the state's error in a stiff direction by h |lambda|); states carry no such factor.
+   pure subroutine set_through_states(self, t_before, u_before, t_before2, u_before2)
+      !> The step, with its states (and rhs_start when no state before is given)
       class(accepted_step_type), intent(inout) :: self
-      !> Whether u_before and t_before hold the start of the step before
-      logical, intent(in) :: before_known
-      integer :: i
-      real(dp) :: ratio, secant
-      self%degree = quadratic_degree
-      self%nodes(1:2) = [0.0_dp, 1.0_dp]
-      ratio = 0.0_dp
-      if (before_known) ratio = (self%t_start - self%t_before)/self%h
+      !> Start of the step before and the state there
+      real(dp), intent(in), optional :: t_before, u_before(:)
+      !> Start of the step before that one and the state there
+      real(dp), intent(in), optional :: t_before2, u_before2(:)
+      integer :: i, before
+      real(dp) :: theta(2), secant, first, second, third
+      before = 0
+      if (present(u_before)) before = merge(2, 1, present(u_before2))
+      self%degree = quadratic_degree + max(before - 1, 0)
+      if (before >= 1) theta(1) = (t_before - self%t_start)/self%h
+      if (before == 2) theta(2) = (t_before2 - self%t_start)/self%h
+      if (before == 0) then
+         self%nodes(1:2) = [0.0_dp, 0.0_dp]
+         self%points(0:2) = [0.0_dp, 0.0_dp, 1.0_dp]
+      else
+         ! Newton form over the points 0, 1, theta(1), theta(2)
+         self%nodes(1:self%degree) = [0.0_dp, 1.0_dp, theta(1)]
+         self%points(0:self%degree) = [0.0_dp, 1.0_dp, theta(1:before)]
+      end if
       do i = 1, size(self%u_start)
          secant = self%u_end(i) - self%u_start(i)
          self%coefficients(i, 0) = self%u_start(i)
-         self%coefficients(i, 1) = secant
-         if (before_known) then
-            ! second divided difference over theta = -ratio, 0, 1
-            self%coefficients(i, 2) = (secant - (self%u_start(i) - self%u_before(i))/ratio)/(1.0_dp + ratio)
-         else
-            ! the slope at theta = 0 is h rhs_start
+         if (before == 0) then
+            ! u_start + theta (h rhs_start + theta (secant - h rhs_start))
+            self%coefficients(i, 1) = self%h*self%rhs_start(i)
             self%coefficients(i, 2) = secant - self%h*self%rhs_start(i)
+            cycle
+         end if
+         self%coefficients(i, 1) = secant
+         ! divided differences f[1, theta1] and f[0, 1, theta1]
+         first = (u_before(i) - self%u_end(i))/(theta(1) - 1.0_dp)
+         second = (first - secant)/theta(1)
+         self%coefficients(i, 2) = second
+         if (before == 2) then
+            ! f[theta1, theta2], f[1, theta1, theta2], then f[0, 1, theta1, theta2]
+            third = (u_before2(i) - u_before(i))/(theta(2) - theta(1))
+            third = (third - first)/(theta(2) - 1.0_dp)
+            self%coefficients(i, 3) = (third - second)/theta(2)
          end if
       end do
-   end subroutine set_quadratic
+   end subroutine set_through_states
+
+   !> The error of the dense output at t estimated from one more state u_extra of the
+   !> solution at t_extra (before the step): the next term of the interpolant's Newton
+   !> series, c (theta - x_0) ... (theta - x_d), c the divided difference over its
+   !> points x_j and theta_extra, c = (u_extra - p(theta_extra)) / prod_j (theta_extra - x_j).
+   pure subroutine interpolation_error(self, t, t_extra, u_extra, error)
+      !> The step, with its dense output
+      class(accepted_step_type), intent(in) :: self
+      !> Where the error is wanted (inside the step)
+      real(dp), intent(in) :: t
+      !> Time of the extra state (not an interpolation point) and the state
+      real(dp), intent(in) :: t_extra, u_extra(:)
+      !> The estimate
+      real(dp), intent(out) :: error(:)
+      real(dp) :: theta, theta_extra, factor
+      integer :: j
+      theta = (t - self%t_start)/self%h
+      theta_extra = (t_extra - self%t_start)/self%h
+      factor = 1.0_dp
+      do j = 0, self%degree
+         factor = factor*(theta - self%points(j))/(theta_extra - self%points(j))
+      end do
+      call newton_form(theta_extra, self%nodes(:self%degree), self%coefficients, error)
+      error = factor*(u_extra - error)
+   end subroutine interpolation_error
 
    !> Work arrays for n unknowns and dense output up to degree max_degree (at least
    !> the cubic Hermite interpolant's).
@@ -157,11 +206,11 @@ contains
       degree = max(hermite_degree, max_degree)
       if (allocated(self%u_start)) then
          if (size(self%u_start) == n .and. size(self%nodes) == degree) return
-         deallocate (self%u_start, self%u_end, self%rhs_start, self%rhs_end, self%u_before, self%nodes, &
+         deallocate (self%u_start, self%u_end, self%rhs_start, self%rhs_end, self%nodes, self%points, &
             self%coefficients)
       end if
-      allocate (self%u_start(n), self%u_end(n), self%rhs_start(n), self%rhs_end(n), self%u_before(n), &
-         self%nodes(degree), self%coefficients(n, 0:degree))
+      allocate (self%u_start(n), self%u_end(n), self%rhs_start(n), self%rhs_end(n), self%nodes(degree), &
+         self%points(0:degree), self%coefficients(n, 0:degree))
       self%degree = 0
    end subroutine reserve
 

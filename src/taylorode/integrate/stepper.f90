@@ -106,6 +106,8 @@ module taylorode_integrate_stepper
       real(dp), allocatable :: violation(:)
       !> What the error of the step becomes in the next one (schemes that amplify errors)
       real(dp), allocatable :: propagated(:)
+      !> The controller's memory before the last accepted attempt (for undo_acceptance)
+      real(dp) :: undo_err_previous = 1.0_dp, undo_err_before = 1.0_dp, undo_h_previous = 0.0_dp
    contains
       !> Prepare for an integration of n unknowns with a scheme and options
       procedure :: start
@@ -119,6 +121,8 @@ module taylorode_integrate_stepper
       procedure :: continue_from
       !> Newton starting guess extrapolated from the last accepted step
       procedure :: extrapolate_to
+      !> Take back the last accepted attempt (the caller rejects it after all)
+      procedure :: undo_acceptance
    end type stepper_type
 
 contains
@@ -313,7 +317,7 @@ contains
       real(dp), intent(out) :: h_next
       !> Why a failed attempt failed (its code)
       type(status_type), intent(inout) :: step_stat
-      real(dp) :: factor, hold_low, hold_high
+      real(dp) :: factor, hold_low, hold_high, propagation
       integer :: i
 
       h_next = h
@@ -363,8 +367,15 @@ contains
       end if
       err = self%weighted_norm(problem, options, self%delta)
       if (scheme%amplifies_errors) then
-         call scheme%propagated_error(h, self%delta, self%propagated)
-         err = max(err, self%weighted_norm(problem, options, self%propagated)/propagation_fraction)
+         ! M^(-1) P delta, which the next step's solve leaves of P delta, only when P
+         ! delta itself is too large (a solve saved at most steps)
+         call scheme%propagated_error(h, self%delta, self%propagated, filtered=.false.)
+         propagation = self%weighted_norm(problem, options, self%propagated)/propagation_fraction
+         if (propagation > err) then
+            call scheme%propagated_error(h, self%delta, self%propagated, filtered=.true.)
+            propagation = self%weighted_norm(problem, options, self%propagated)/propagation_fraction
+         end if
+         err = max(err, propagation)
       end if
       ! a rejected step shrinks h by the I controller's factor: the PI and PID terms of
       ! earlier (small) errors could otherwise ask for a larger step than the one
@@ -386,6 +397,9 @@ contains
       h_next = min(factor*h, options%h_max)
       if (err <= 1.0_dp) then
          outcome = attempt_accepted
+         self%undo_err_previous = self%err_previous
+         self%undo_err_before = self%err_before
+         self%undo_h_previous = self%h_previous
          self%err_before = self%err_previous
          self%err_previous = err
          self%h_previous = h
@@ -534,6 +548,18 @@ contains
       ratio = min(offset/self%h_previous, 1.0_dp)
       guess = u + ratio*(u - self%u_step_start)
    end subroutine extrapolate_to
+
+   !> Take back the last accepted attempt, which the caller rejects after all (the
+   !> dense output's error test): the controller's memory is as before it, and the next
+   !> Newton start is not extrapolated from it.
+   subroutine undo_acceptance(self)
+      !> The stepper
+      class(stepper_type), intent(inout) :: self
+      self%err_previous = self%undo_err_previous
+      self%err_before = self%undo_err_before
+      self%h_previous = self%undo_h_previous
+      self%extrapolation_ready = .false.
+   end subroutine undo_acceptance
 
    !> Whether every entry of v is finite.
    pure logical function finite(v)

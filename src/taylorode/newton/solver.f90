@@ -275,8 +275,8 @@ contains
    !> slowly to converge within the iteration limit. Each iteration costs one
    !> residual and one LU solve. Converged when the error left, estimated as
    !> theta/(1 - theta) max_i |increment_i| / tolerance_i, is at most 1 (or, without
-   !> settings%estimate_error, when every |increment_i| <= tolerance_i); an increment is
-   !> measured with what the next step makes of it (`propagate`) when that is larger.
+   !> settings%estimate_error, when every |increment_i| <= tolerance_i), and what the
+   !> increment becomes in the next step (`propagate`) is within the tolerances too.
    !> A failure is reported by its code alone (no message is built, nothing is
    !> allocated): status_singular_matrix, status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
@@ -300,7 +300,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, rebuilt, known, propagates
+      logical :: rebuild, rebuilt, known
       real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
@@ -367,15 +367,6 @@ contains
             end if
             size_now = max(size_now, abs(self%increment(i))*self%inverse_tolerance(i))
          end do
-         ! an increment the next step would amplify counts with what it becomes there
-         call system%propagate(self%increment, self%propagated, propagates)
-         if (propagates) then
-            call self%solve_linear(slot, self%propagated, stat)
-            if (stat%code /= status_ok) return
-            do i = 1, m
-               size_now = max(size_now, abs(self%propagated(i))*self%inverse_tolerance(i))
-            end do
-         end if
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
          known = size_before > 0.0_dp
@@ -385,8 +376,11 @@ contains
             return
          end if
          if (.not. settings%estimate_error .and. size_now <= 1.0_dp .and. iteration >= least_iterations) then
-            call converged()
-            return
+            if (propagation_within(1.0_dp)) then
+               call converged()
+               return
+            end if
+            if (stat%code /= status_ok) return
          end if
          ! (nothing to compare the first increment with: its contraction counts as 0)
          contraction = 0.0_dp
@@ -394,8 +388,11 @@ contains
          if (settings%estimate_error) then
             if (iteration > 1 .and. known .and. contraction < 1.0_dp) error_factor = contraction/(1.0_dp - contraction)
             if (error_factor*size_now <= 1.0_dp) then
-               call converged()
-               return
+               if (propagation_within(error_factor)) then
+                  call converged()
+                  return
+               end if
+               if (stat%code /= status_ok) return
             end if
          end if
          if (known .and. contraction >= divergence_contraction .and. rebuilt) then
@@ -454,6 +451,32 @@ contains
             if (self%kept(j)%last_used < self%kept(slot)%last_used) slot = j
          end do
       end subroutine choose_factorization
+
+      !> Whether what the last increment becomes in the next step (the system's
+      !> `propagate`, P d), times factor, is within the tolerances: P d itself when it
+      !> is, else M^(-1) P d (one more solve), what the next step's implicit solve leaves
+      !> of it. True for systems that propagate nothing.
+      logical function propagation_within(factor)
+         real(dp), intent(in) :: factor
+         logical :: propagates
+         call system%propagate(self%increment, self%propagated, propagates)
+         propagation_within = .true.
+         if (.not. propagates) return
+         if (factor*weighted_size(self%propagated) <= 1.0_dp) return
+         call self%solve_linear(slot, self%propagated, stat)
+         counters%linear_solves = counters%linear_solves + 1
+         propagation_within = factor*weighted_size(self%propagated) <= 1.0_dp .and. stat%code == status_ok
+      end function propagation_within
+
+      !> max_i |v_i| / tolerance_i
+      real(dp) function weighted_size(v)
+         real(dp), intent(in) :: v(:)
+         integer :: j
+         weighted_size = 0.0_dp
+         do j = 1, m
+            weighted_size = max(weighted_size, abs(v(j))*self%inverse_tolerance(j))
+         end do
+      end function weighted_size
 
       !> Keep the contraction of the last two increments (0 after one iteration, huge
       !> when it is unknown) for the decision to reuse the factors.

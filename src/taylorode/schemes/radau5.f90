@@ -233,13 +233,15 @@ contains
 
    !> The collocation polynomial of the step just taken as its dense output (RADAU5's
    !> CONTR5): u1 + s (c_1 + (s - c2 + 1) (c_2 + (s - c1 + 1) c_3)), s = theta - 1,
-   !> i.e. nodes 1, c2, c1 in theta. None for another step or a u1 the integrator changed.
-   pure subroutine radau_dense_output(self, t, h, u1, nodes, coefficients, degree)
+   !> i.e. nodes 1, c2, c1 in theta, through U0 and the stages: points 0, c1, c2, 1. None
+   !> for another step or a u1 the integrator changed.
+   pure subroutine radau_dense_output(self, t, h, u1, nodes, coefficients, points, degree)
       class(radau5_type), intent(in) :: self
       real(dp), intent(in) :: t, h
       real(dp), intent(in) :: u1(:)
       real(dp), intent(inout) :: nodes(:)
       real(dp), intent(inout) :: coefficients(:, 0:)
+      real(dp), intent(inout) :: points(0:)
       integer, intent(out) :: degree
       integer :: i
       degree = 0
@@ -249,6 +251,7 @@ contains
       end do
       degree = 3
       nodes(1:3) = [1.0_dp, c2, c1]
+      points(0:3) = [0.0_dp, c1, c2, 1.0_dp]
       coefficients(:, 0) = u1
       call collocation_polynomial(self%z(:, 1), self%z(:, 2), self%z(:, 3), coefficients(:, 1), coefficients(:, 2), &
          coefficients(:, 3))

@@ -319,10 +319,11 @@ contains
 
    !> The scheme's continuous extension of the step it just took, from t with size h to
    !> u1, as a polynomial in theta = (t' - t)/h in Newton form (see
-   !> taylorode_integrate_step): nodes(1:degree) and coefficient columns 0:degree.
+   !> taylorode_integrate_step): nodes(1:degree) and coefficient columns 0:degree, and
+   !> the points 0:degree in theta where it matches the scheme's values.
    !> degree = 0 says it has none for this step (a step it did not take, or a u1 the
    !> integrator changed); the default has none at all.
-   pure subroutine dense_output(self, t, h, u1, nodes, coefficients, degree)
+   pure subroutine dense_output(self, t, h, u1, nodes, coefficients, points, degree)
       !> The scheme
       class(scheme_type), intent(in) :: self
       !> Start and size of the step
@@ -333,6 +334,8 @@ contains
       real(dp), intent(inout) :: nodes(:)
       !> Coefficient vectors of the Newton form (columns 0:dense_degree at least)
       real(dp), intent(inout) :: coefficients(:, 0:)
+      !> Interpolation points (0:dense_degree at least)
+      real(dp), intent(inout) :: points(0:)
       !> Degree written (0: none)
       integer, intent(out) :: degree
       degree = 0
@@ -359,17 +362,21 @@ contains
    end subroutine step_error
 
    !> propagated = P error: what an error of the state the step just taken (size h) ended
-   !> in adds to the state of a next step like it, beyond the error itself, for schemes
-   !> that declare `amplifies_errors`; the default leaves propagated at 0.
-   subroutine propagated_error(self, h, error, propagated)
+   !> in adds to the equation of a next step like it, beyond the error itself, for
+   !> schemes that declare `amplifies_errors`; with `filtered`, M^(-1) P error, what the
+   !> next step's solve leaves of it (M the step's Newton matrix). The default leaves
+   !> propagated at 0.
+   subroutine propagated_error(self, h, error, propagated, filtered)
       !> The scheme
       class(scheme_type), intent(inout) :: self
       !> Size of the step just taken
       real(dp), intent(in) :: h
       !> The error (an estimate of the step's)
       real(dp), contiguous, intent(in) :: error(:)
-      !> What it adds to the next step's state
+      !> What it adds to the next step
       real(dp), contiguous, intent(out) :: propagated(:)
+      !> Whether to apply M^(-1)
+      logical, intent(in) :: filtered
       propagated = 0.0_dp
    end subroutine propagated_error
 

@@ -371,18 +371,20 @@ contains
       end associate
    end subroutine semi_implicit_step_error
 
-   !> propagated = M^(-1) h^2/2 J_f0 J_g0 error, with the Jacobians and the Newton
-   !> matrix M of the step just taken: what an error of its state adds to the next step
-   !> (0 before si-t-2 has taken one).
-   subroutine semi_implicit_propagated_error(self, h, error, propagated)
+   !> propagated = h^2/2 J_f0 J_g0 error (filtered: M^(-1) times it), with the Jacobians
+   !> and the Newton matrix M of the step just taken: what an error of its state adds
+   !> to the next step (0 before si-t-2 has taken one).
+   subroutine semi_implicit_propagated_error(self, h, error, propagated, filtered)
       class(semi_implicit_taylor_type), intent(inout) :: self
       real(dp), intent(in) :: h
       real(dp), contiguous, intent(in) :: error(:)
       real(dp), contiguous, intent(out) :: propagated(:)
+      logical, intent(in) :: filtered
       type(status_type) :: filter_stat
       propagated = 0.0_dp
       if (.not. self%ready(si_t_2)) return
       call amplify(self%system, h, error, propagated)
+      if (.not. filtered) return
       call self%newton(si_t_2)%apply_inverse(propagated, self%counters, filter_stat)
       if (filter_stat%code /= status_ok) propagated = 0.0_dp
    end subroutine semi_implicit_propagated_error
