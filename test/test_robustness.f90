@@ -8,9 +8,9 @@ module test_robustness
       integrator_options_type, integration_stats_type, step_history_type, write_history_csv, status_ok, &
       status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
       status_evaluation_failed, status_newton_not_converged, status_newton_diverged, matrix_structure_type, &
-      band_structure, integrator_type
+      band_structure, integrator_type, integrate_fixed, status_step_underflow
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
-   use taylorode_base_strings, only: format_real
+   use taylorode_base_strings, only: format_real, fixed_length_real
    use taylorode_interfaces_legacy, only: legacy_solve
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
    use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
@@ -134,7 +134,8 @@ contains
          new_unittest("scheme-prepared-by-init-checked", test_scheme_prepared_checked), &
          new_unittest("c-options-checked", test_c_options_checked), &
          new_unittest("legacy-bandwidths-checked", test_legacy_bandwidths_checked), &
-         new_unittest("command-line-mistakes-found-first", test_mistakes_found_first) &
+         new_unittest("command-line-mistakes-found-first", test_mistakes_found_first), &
+         new_unittest("messages-legible-at-any-t", test_messages_legible) &
          ]
    end subroutine collect_robustness
 
@@ -1018,5 +1019,48 @@ contains
             "taylorode "//arguments(:min(len(arguments), 80)))
       end subroutine expect_usage_error
    end subroutine test_mistakes_found_first
+
+   !> Failure messages print every time legibly, before t = 0 and far from it too (a
+   !> fixed-width edit descriptor printed asterisks for t < 0 and dropped the E of a
+   !> three-digit exponent), and they are still built in fixed-length buffers.
+   subroutine test_messages_legible(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      type(poisoned_after_type) :: poisoned
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), v(1)
+
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-1", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, -10.0_dp, -5.0_dp, u, integrator_options_type(max_steps=2_i8), stats, stat)
+      call expect(status_max_steps, "reached at t = -")
+      u = problem%u0
+      call integrate(problem, scheme, -10.0_dp, -5.0_dp, u, integrator_options_type(h_min=0.5_dp), &
+         stats, stat)
+      call expect(status_step_underflow, "roundoff of t = -1.000000E+01")
+      poisoned%t_bad = -9.0_dp
+      v = 1.0_dp
+      call integrate(poisoned, scheme, -10.0_dp, -5.0_dp, v, integrator_options_type(), stats, stat)
+      call expect(status_nonfinite, "at t = -9.")
+      poisoned%t_bad = -1.4e-100_dp
+      v = 1.0_dp
+      call integrate_fixed(poisoned, scheme, -2.0e-100_dp, -1.0e-100_dp, 2, v, stat)
+      call expect(status_nonfinite, "(step from t = -1.5000000000000000E-100)")
+      if (allocated(error)) return
+      call check(error, trim(fixed_length_real(-7.927342e2_dp, 7))//" "//trim(fixed_length_real(1.0e-300_dp, 2))// &
+         " "//trim(fixed_length_real(ieee_value(1.0_dp, ieee_quiet_nan)))//" "// &
+         trim(fixed_length_real(-ieee_value(1.0_dp, ieee_positive_inf))), "-7.927342E+02 1.0E-300 nan -inf")
+   contains
+      subroutine expect(code, words)
+         integer, intent(in) :: code
+         character(len=*), intent(in) :: words
+         if (allocated(error)) return
+         call check(error, stat%code == code .and. index(stat_message(stat), "*") == 0 .and. &
+            index(stat_message(stat), words) > 0, "expected """//words//""" in: "//stat_message(stat))
+      end subroutine expect
+   end subroutine test_messages_legible
 
 end module test_robustness

@@ -10,6 +10,7 @@ module taylorode_integrate_integrator
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
       status_output_error, status_description
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
+   use taylorode_base_strings, only: fixed_length_real
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs
    use taylorode_integrate_options, only: integrator_options_type, validate_options, estimate_defect
@@ -355,8 +356,8 @@ contains
       trouble_end = t
       do while (t < t_target)
          if (attempts >= self%options%max_steps) then
-            write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", es13.6e3)') &
-               self%options%max_steps, t
+            write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", a)') &
+               self%options%max_steps, trim(fixed_length_real(t, 7))
             call set_status(stat, status_max_steps, trim(text))
             exit
          end if
@@ -364,8 +365,8 @@ contains
          last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
          if (last) h = t_target - t
          if (h < self%options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
-            write (text, '("integrate: step size ", es13.6e3, " below the minimum step or the roundoff of t = ", &
-               &es13.6e3)') h, t
+            write (text, '("integrate: step size ", a, " below the minimum step or the roundoff of t = ", a)') &
+               trim(fixed_length_real(h, 7)), trim(fixed_length_real(t, 7))
             call set_status(stat, status_step_underflow, trim(text))
             exit
          end if
@@ -431,20 +432,21 @@ contains
             end select
             call record_attempt(nan, outcome, newton_before, u)
             if (problem%evaluation_fatal()) then
-               write (text, '("integrate: the problem stopped the integration at t = ", es13.6e3)') t
+               write (text, '("integrate: the problem stopped the integration at t = ", a)') &
+                  trim(fixed_length_real(t, 7))
                call set_status(stat, status_evaluation_failed, trim(text))
                exit
             end if
             if (failures >= self%options%max_failures) then
-               write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", es13.6e3, &
-                  &", last: ", a)') failures, t, trim(status_description(step_stat%code))
+               write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", a, &
+                  &", last: ", a)') failures, trim(fixed_length_real(t, 7)), trim(status_description(step_stat%code))
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
             if (troubles >= self%options%max_failures) then
-               write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", es13.6e3, &
-                  &" (stopped at t = ", es13.6e3, ")")') trim(status_description(step_stat%code)), troubles, &
-                  trouble_end, t
+               write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", a, &
+                  &" (stopped at t = ", a, ")")') trim(status_description(step_stat%code)), troubles, &
+                  trim(fixed_length_real(trouble_end, 7)), trim(fixed_length_real(t, 7))
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
