@@ -11,7 +11,7 @@ program taylorode_app
    use, intrinsic :: iso_fortran_env, only: error_unit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan, ieee_value, ieee_quiet_nan
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
-      status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
+      status_output_error, status_max_steps, status_unknown_scheme, status_name, scheme_type, new_scheme, scheme_names, &
       scheme_count, integrator_options_type, paper_options, norm_max, norm_rms, controller_i, controller_pi, &
       estimate_auto, estimate_embedded, estimate_doubling, estimate_defect, &
       controller_pid, controller_name, integrate, integration_stats_type, step_history_type
@@ -1019,8 +1019,11 @@ contains
          if (stat%code /= status_ok) return
          call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, run_stat, history=history, &
             t_out=t_out, u_out=u_out)
-         call history%finish(stat)
-         if (stat%code /= status_ok) return
+         ! integrate has finished the file: a history that could not be written ends the command
+         if (run_stat%code == status_output_error) then
+            stat = run_stat
+            return
+         end if
       else
          call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, run_stat, t_out=t_out, u_out=u_out)
       end if

@@ -116,6 +116,7 @@ contains
          new_unittest("outputs-checked-before-work", test_outputs_checked_first), &
          new_unittest("history-streamed-and-bounded", test_history_streamed), &
          new_unittest("history-reused", test_history_reused), &
+         new_unittest("history-stream-never-left-behind", test_history_stream_completed), &
          new_unittest("concurrent-integrations", test_concurrent_integrations), &
          new_unittest("lapack-never-stops", test_lapack_never_stops), &
          new_unittest("bandwidths-validated", test_bandwidths_validated), &
@@ -276,8 +277,9 @@ contains
       call check(error, run%exit_status, 2, "an output directory that cannot be created")
    end subroutine test_outputs_checked_first
 
-   !> (4) A streamed history holds nothing in memory and writes every attempt; a bounded
-   !> one keeps at most its capacity and counts the rest.
+   !> (4) A streamed history holds nothing in memory and writes every attempt (the file is
+   !> complete when integrate returns); a bounded one keeps at most its capacity and
+   !> counts the rest.
    subroutine test_history_streamed(error)
       type(error_type), allocatable, intent(out) :: error
       type(van_der_pol_type) :: problem
@@ -300,9 +302,6 @@ contains
       call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat, history=history)
       call check(error, stat%code, status_ok, stat_message(stat))
       if (allocated(error)) return
-      call check(error, .not. file_exists(scratch//"/out/stream.csv"), "the stream appears before finish")
-      if (allocated(error)) return
-      call history%finish(stat)
       call read_lines(scratch//"/out/stream.csv", lines)
       call check(error, .not. allocated(history%t) .and. size(lines) == history%count + 1 .and. &
          history%count == stats%accepted_steps + stats%rejected_steps(), "streamed rows")
@@ -316,6 +315,108 @@ contains
       call check(error, history%count == 50 .and. size(history%t) <= 50 .and. &
          history%dropped == stats%accepted_steps + stats%rejected_steps() - 50, "bounded history")
    end subroutine test_history_streamed
+
+   !> A streamed history is finished in every path, and no temporary file is left behind:
+   !> integrate completes the file when it returns (after a failed integration too, and
+   !> after a refused call, with the header alone; a file it cannot write is
+   !> status_output_error, the integration's own failure kept in the message);
+   !> continued calls (advance_to) write one
+   !> file, which appears at finish; a history dropped unfinished removes its temporary
+   !> file and leaves the destination as it was; a second stream_to drops the first.
+   subroutine test_history_stream_completed(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: directory = scratch//"/out"
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      type(integrator_type) :: integrator
+      type(line_type), allocatable :: lines(:)
+      real(dp) :: u(2)
+      integer :: k
+
+      call fresh_scratch()
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      ! a failed integration (the step budget) still gets its history
+      call history%stream_to(directory//"/failed.csv", stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, integrator_options_type(max_steps=5_i8), stats, stat, &
+         history=history)
+      call read_lines(directory//"/failed.csv", lines)
+      call check(error, stat%code == status_max_steps .and. size(lines) == 6, "history of a failed integration: "// &
+         format_real(real(size(lines), dp), 2)//" lines")
+      if (allocated(error)) return
+      ! a history that cannot be written is the call's status, the integration's reason kept
+      call history%stream_to("/dev/full", stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, integrator_options_type(max_steps=5_i8), stats, stat, &
+         history=history)
+      call check(error, stat%code == status_output_error .and. index(stat_message(stat), "No space left") > 0 &
+         .and. index(stat_message(stat), "maximum number of steps") > 0, stat_message(stat))
+      if (allocated(error)) return
+      ! a refused call: the header alone
+      call history%stream_to(directory//"/refused.csv", stat)
+      call integrate(problem, scheme, 1.0_dp, 1.0_dp, u, integrator_options_type(), stats, stat, history=history)
+      call read_lines(directory//"/refused.csv", lines)
+      call check(error, stat%code == status_invalid_argument .and. size(lines) == 1, "history of a refused call")
+      if (allocated(error)) return
+      call expect_no_temporary("integrate")
+      if (allocated(error)) return
+      ! continued calls: one file, at finish
+      call history%stream_to(directory//"/continued.csv", stat)
+      u = problem%u0
+      call integrator%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+      do k = 1, 3
+         call integrator%advance_to(problem, scheme, real(k, dp), u, stat, history=history)
+      end do
+      call check(error, stat%code == status_ok .and. .not. file_exists(directory//"/continued.csv"), &
+         "the stream of continued calls appeared before finish")
+      if (allocated(error)) return
+      call history%finish(stat)
+      call read_lines(directory//"/continued.csv", lines)
+      call check(error, stat%code == status_ok .and. size(lines) == history%count + 1 .and. &
+         integrator%total%accepted_steps + integrator%total%rejected_steps() == history%count, &
+         "one file for three continued calls")
+      if (allocated(error)) return
+      call expect_no_temporary("finish")
+      if (allocated(error)) return
+      ! dropped unfinished, and replaced by a second stream_to
+      call abandon_stream()
+      call check(error, .not. file_exists(directory//"/abandoned.csv"), "an unfinished stream appeared")
+      if (allocated(error)) return
+      call expect_no_temporary("a history dropped unfinished")
+      if (allocated(error)) return
+      call history%stream_to(directory//"/first.csv", stat)
+      call history%stream_to(directory//"/second.csv", stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(), stats, stat, history=history)
+      call check(error, file_exists(directory//"/second.csv") .and. .not. file_exists(directory//"/first.csv"), &
+         "a second stream_to")
+      if (allocated(error)) return
+      call expect_no_temporary("a second stream_to")
+
+   contains
+
+      !> advance_to into a stream, and the history goes out of scope without finish
+      subroutine abandon_stream()
+         type(step_history_type) :: dropped
+         type(integrator_type) :: continued
+         call dropped%stream_to(directory//"/abandoned.csv", stat)
+         u = problem%u0
+         call continued%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+         call continued%advance_to(problem, scheme, 1.0_dp, u, stat, history=dropped)
+      end subroutine abandon_stream
+
+      subroutine expect_no_temporary(after)
+         character(len=*), intent(in) :: after
+         type(run_type) :: listing
+         if (allocated(error)) return
+         call run_command("ls -a "//directory, listing)
+         call check(error, .not. has_line(listing%stdout, ".tmp-"), "a temporary file is left after "//after)
+      end subroutine expect_no_temporary
+   end subroutine test_history_stream_completed
 
    !> (8) One history for several integrations: states off then on, 2 then 3 unknowns.
    subroutine test_history_reused(error)

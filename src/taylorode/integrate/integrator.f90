@@ -73,7 +73,9 @@ contains
    !> times in [t0, t_end]) the solution at those times comes back in u_out(:, k)
    !> from the dense output of each accepted step (the scheme's own continuous
    !> extension, else the cubic Hermite interpolant). With `history`
-   !> every attempted step is recorded; `observer` is called after every accepted
+   !> every attempted step is recorded (a history streamed into a file is finished when
+   !> integrate returns, whatever the outcome; one that cannot be written is
+   !> status_output_error); `observer` is called after every accepted
    !> step; `events` locates zero crossings (a terminal one ends the integration
    !> there, with status ok). Backward integration (t_end < t0) is not supported:
    !> substitute s = -t.
@@ -118,16 +120,19 @@ contains
       if (.not. (ieee_is_finite(t_end) .and. t_end > t0)) then
          call set_status(stat, status_invalid_argument, "integrate: t_end must be finite and greater than t0 "// &
             "(backward integration is not supported: substitute s = -t)")
+         call complete_stream(history, stat)
          return
       end if
       if (present(t_out) .neqv. present(u_out)) then
          call set_status(stat, status_invalid_argument, outputs_together)
+         call complete_stream(history, stat)
          return
       end if
       call integrator%init(problem, scheme, t0, u, options, stat)
       if (stat%code /= status_ok) then
          stats = integrator%total
          stats%t_reached = t0
+         call complete_stream(history, stat)
          return
       end if
       ! output arrays are passed on only when given: gfortran builds a descriptor for an
@@ -140,7 +145,27 @@ contains
       end if
       ! the work of init (F at t0 for the first step size) belongs to this integration
       stats%work = integrator%total%work
+      call complete_stream(history, stat)
    end subroutine integrate
+
+   !> The end of integrate: a history streamed into a file is finished (renamed into
+   !> place when every row was written, else removed). A history that could not be
+   !> written makes the call's status status_output_error, with the reason the
+   !> integration stopped before, if it did, in the message.
+   subroutine complete_stream(history, stat)
+      type(step_history_type), intent(inout), optional :: history
+      type(status_type), intent(inout) :: stat
+      type(status_type) :: file_stat
+      if (.not. present(history)) return
+      call history%finish(file_stat)
+      if (file_stat%code == status_ok) return
+      if (stat%code == status_ok .or. stat%code == status_output_error) then
+         stat = file_stat
+      else
+         call set_status(stat, status_output_error, file_stat%message//"; the integration had stopped before: "// &
+            stat%message)
+      end if
+   end subroutine complete_stream
 
    !> Check the sizes, times, initial state and options, prepare the scheme for the
    !> problem (forgetting what it kept from earlier integrations) and choose the first
