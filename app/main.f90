@@ -6,15 +6,16 @@
 !> work starts (app_output) and runs one command: table and vdp (app_paper), sweep,
 !> stability and extreme (app_reports), bench and ensemble (app_bench). Nothing typed
 !> on the command line reaches a shell; every file is written to a temporary file and
-!> renamed into place when complete. The app's modules are named app_* and are not
-!> installed with the library (make install removes their .mod files).
+!> renamed into place when complete; a file-size limit is a failed write like a full
+!> disk (SIGXFSZ ignored, app/signals.c). The app's modules are named app_* and are
+!> not installed with the library (make install removes their .mod files).
 program taylorode_app
    use, intrinsic :: iso_fortran_env, only: error_unit
    use taylorode, only: status_type, status_ok
    use app_cli, only: request_type, version, read_arguments, parse_command_line, check_request
    use app_help, only: help_text
-   use app_output, only: table_type, checks_failed, start_output, say, finish_output, usage_error, &
-      check_outputs, write_tables
+   use app_output, only: table_type, checks_failed, ignore_file_size_signal, start_output, say, finish_output, &
+      usage_error, check_outputs, write_tables
    use app_paper, only: run_vdp, run_table
    use app_reports, only: run_sweep, run_stability, run_extreme
    use app_bench, only: run_bench, run_ensemble
@@ -26,6 +27,7 @@ program taylorode_app
    character(len=:), allocatable :: args(:)
    integer :: io
 
+   call ignore_file_size_signal()
    call start_output()
 
    call read_arguments(args)

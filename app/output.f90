@@ -5,6 +5,7 @@
 !> place when complete.
 module app_output
    use, intrinsic :: iso_fortran_env, only: error_unit
+   use, intrinsic :: iso_c_binding, only: c_int
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use taylorode, only: dp, status_type, status_ok, status_invalid_argument, status_name
    use taylorode_base_status, only: set_status
@@ -16,7 +17,7 @@ module app_output
    private
 
    public :: text_type, table_type, checks_failed
-   public :: start_output, say, finish_output, progress, usage_error
+   public :: ignore_file_size_signal, start_output, say, finish_output, progress, usage_error
    public :: check_outputs, new_table, add_row, write_tables, write_csv, error_text, status_word
 
    !> One line of text
@@ -36,7 +37,25 @@ module app_output
    !> Standard output, written through write(2) so that every failure is seen
    type(text_file_type) :: stdout
 
+   interface
+      !> app/signals.c: SIGXFSZ ignored (0), or left as it was (-1)
+      function c_ignore_file_size_signal() result(status) bind(c, name="taylorode_app_ignore_file_size_signal")
+         import :: c_int
+         integer(c_int) :: status
+      end function c_ignore_file_size_signal
+   end interface
+
 contains
+
+   !> Let a write beyond the file-size limit (ulimit -f) fail with EFBIG, "File too
+   !> large", instead of SIGXFSZ ending the program with its temporary files left
+   !> behind: each output then reports the failure and removes its temporary file as it
+   !> does on a full disk. The app's decision, not the library's: a library must not
+   !> change a process-wide signal disposition under the program that calls it.
+   subroutine ignore_file_size_signal()
+      integer(c_int) :: status
+      status = c_ignore_file_size_signal()   ! when it cannot, the default stays: nothing else to do
+   end subroutine ignore_file_size_signal
 
    !> Write the report to standard output (descriptor 1) from now on.
    subroutine start_output()

@@ -113,6 +113,7 @@ contains
          new_unittest("no-shell-for-user-text", test_no_shell), &
          new_unittest("write-errors-reported", test_write_errors), &
          new_unittest("full-disk-leaves-files-intact", test_full_disk), &
+         new_unittest("file-size-limit-is-a-status", test_file_size_limit), &
          new_unittest("outputs-checked-before-work", test_outputs_checked_first), &
          new_unittest("history-streamed-and-bounded", test_history_streamed), &
          new_unittest("history-reused", test_history_reused), &
@@ -245,6 +246,62 @@ contains
       end if
       call run_command("umount "//disk, run)
    end subroutine test_full_disk
+
+   !> (2) Under a file-size limit (ulimit -f) the app does not die of SIGXFSZ: a history,
+   !> a table or its report that outgrows the limit is an error (exit status 1, "File too
+   !> large"), the file that was there is left as it was, no temporary file remains and
+   !> no truncated file appears; the outputs that fit are written.
+   subroutine test_file_size_limit(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: directory = scratch//"/out"
+      type(run_type) :: run
+      type(line_type), allocatable :: lines(:)
+      integer :: unit
+
+      call fresh_scratch()
+      open (newunit=unit, file=directory//"/h.csv", status="replace", action="write")
+      write (unit, '(a)') "previous contents"
+      close (unit)
+      ! the history (1.3 MB) against 8 KiB
+      call run_command("( ulimit -f 8; exec "//app_path()//" vdp --mu 10 --tend 20 --history "//directory// &
+         "/h.csv --force )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "File too large"), &
+         "a history beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+      if (allocated(error)) return
+      call read_lines(directory//"/h.csv", lines)
+      call check(error, size(lines) == 1 .and. has_line(lines, "previous contents"), &
+         "the existing history was overwritten")
+      if (allocated(error)) return
+      call expect_no_temporary("the history")
+      if (allocated(error)) return
+      ! the S1 regions table (0.5 MB) against 8 KiB; the two small tables are written
+      call run_command("( ulimit -f 8; exec "//app_path()//" stability --grid 41 --out "//directory//" )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "File too large") .and. &
+         .not. file_exists(directory//"/s1_regions.csv") .and. file_exists(directory//"/l_stability.csv"), &
+         "a table beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+      if (allocated(error)) return
+      call expect_no_temporary("the tables")
+      if (allocated(error)) return
+      ! the report itself (2.6 kB) redirected into a file against 1 KiB
+      call run_command("( ulimit -f 1; exec "//app_path()//" stability --grid 3 > "//directory//"/report.txt )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "standard output: File too large"), &
+         "a report beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+
+   contains
+
+      subroutine expect_no_temporary(after)
+         character(len=*), intent(in) :: after
+         call check(error, .not. temporary_file_in(directory), "a temporary file is left after "//after)
+      end subroutine expect_no_temporary
+   end subroutine test_file_size_limit
+
+   !> Whether a temporary file of the library's file writer (name.tmp-PID-N) is in directory.
+   logical function temporary_file_in(directory)
+      character(len=*), intent(in) :: directory
+      type(run_type) :: listing
+      call run_command("ls -a "//directory, listing)
+      temporary_file_in = has_line(listing%stdout, ".tmp-")
+   end function temporary_file_in
 
    !> (3) Every output target is checked before any work starts (exit status 2, nothing
    !> written, no run started).
@@ -411,10 +468,8 @@ contains
 
       subroutine expect_no_temporary(after)
          character(len=*), intent(in) :: after
-         type(run_type) :: listing
          if (allocated(error)) return
-         call run_command("ls -a "//directory, listing)
-         call check(error, .not. has_line(listing%stdout, ".tmp-"), "a temporary file is left after "//after)
+         call check(error, .not. temporary_file_in(directory), "a temporary file is left after "//after)
       end subroutine expect_no_temporary
    end subroutine test_history_stream_completed
 
