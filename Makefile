@@ -107,8 +107,8 @@ test-install:
 
 install: setup
 	fpm install --profile release --prefix "$(PREFIX)"
-	@# fpm installs every module it built, the examples' too: only the library's stay
-	@for module in $$(sed -n 's/^module \([a-z0-9_]*\).*/\1/p' example/*.f90); do \
+	@# fpm installs every module it built, the examples' and the app's too: only the library's stay
+	@for module in $$(sed -n 's/^module \([a-z0-9_]*\).*/\1/p' example/*.f90 app/*.f90); do \
 	  rm -f "$(PREFIX)/include/$$module.mod"; done
 	install -m 644 include/taylorode.h "$(PREFIX)/include/"
 	gfortran -shared -o "$(PREFIX)/lib/libtaylorode.so" -Wl,--whole-archive "$(PREFIX)/lib/libtaylorode.a" \

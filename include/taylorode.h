@@ -8,7 +8,14 @@
  *   if (status != TAYLORODE_OK) fprintf(stderr, "%s\n", taylorode_message(ode));
  *   taylorode_free(ode);
  *
- * Every function returns a status code and never stops or prints. Callbacks return
+ * Every function returns a status code and never stops or prints. A NULL handle, or
+ * NULL for an array, a name or a result the function needs, is refused with
+ * TAYLORODE_INVALID_ARGUMENT (and a message on the handle when there is one); nothing is
+ * read or written through it. Names are exact C strings: "h0 " is no option, "i-t-2 "
+ * no scheme. Every function that sets or integrates something leaves taylorode_message
+ * "" when it succeeds and the reason when it fails.
+ *
+ * Callbacks return
  * 0 on success, > 0 when they cannot evaluate at the point given (the step is
  * retried with a smaller step) and < 0 to stop the integration. Arrays are of length
  * n; dense Jacobians are column-major n x n (jac[i + n j] = d part_i / d u_j), band
@@ -53,7 +60,9 @@ typedef struct {
 } taylorode_stats_t;
 
 /* A handle for a scheme ("ex-t-1", "ex-t-2", "si-t-1", "si-t-2", "si-t-2-paper", "i-t-1", "i-t-2",
-   "imex-rk21", "radau5") and n unknowns; NULL with *status set on failure. */
+   "imex-rk21", "radau5") and n unknowns; NULL with *status set on failure (TAYLORODE_INVALID_ARGUMENT
+   for a NULL scheme, TAYLORODE_UNKNOWN_SCHEME, TAYLORODE_SIZE_MISMATCH for n < 1). status may be NULL:
+   the handle is created all the same, and a failure shows only as the NULL returned. */
 taylorode_t *taylorode_create(const char *scheme, int n, int *status);
 void taylorode_free(taylorode_t *ode);
 
@@ -69,14 +78,18 @@ int taylorode_set_tolerance_vectors(taylorode_t *ode, const double *rtol, const 
    "controller" (0: I, 1: PI, 2: PID), "norm" (0: max, 1: rms) */
 int taylorode_set_option(taylorode_t *ode, const char *name, double value);
 
-/* Start at (t0, u0); then continue call after call (u may be changed between calls) */
+/* Start at (t0, u0); then continue call after call (u may be changed between calls) to any t not
+   before the current time (t equal to it returns at once) */
 int taylorode_init(taylorode_t *ode, double t0, const double *u0);
 int taylorode_advance_to(taylorode_t *ode, double t, double *u);
-/* From t0 to t_end in one call: u holds u(t0) on entry, u(t_end) (or the last good state) on exit */
+/* From t0 to t_end > t0 in one call (t_end <= t0 is refused, u untouched): u holds u(t0) on entry,
+   u(t_end) (or the last good state) on exit */
 int taylorode_integrate(taylorode_t *ode, double t0, double t_end, double *u);
 
+/* Statistics since taylorode_init; it only reads, and leaves the message as it was unless it fails */
 int taylorode_get_stats(const taylorode_t *ode, taylorode_stats_t *stats);
-/* The message of the last failing call ("" after success), valid until the next call on ode */
+/* The message of the last call on ode ("" when it succeeded), valid until the next call on ode;
+   never NULL (for a NULL ode, a text that says so) */
 const char *taylorode_message(const taylorode_t *ode);
 
 #ifdef __cplusplus

@@ -1,8 +1,10 @@
 !> The interfaces for the codes that use the library, exercised as their users would:
 !> the F77 program (built with pkg-config, the same as its RADAU5 version but for the
 !> CALL line), the C program (built by its plain Makefile) and the Python script
-!> (ctypes and numpy), each against an installed library, a Fortran program linked by
-!> the README's command line; and the README's code, which must be the examples' code.
+!> (ctypes and numpy), each against an installed library, a C program that checks the
+!> header's promises on bad input (NULL pointers, inexact names, t_end = t0, messages),
+!> a Fortran program linked by the README's command line; and the README's code, which
+!> must be the examples' code.
 !> `make test` installs into build/install and says where through TAYLORODE_PREFIX;
 !> without it the tests that need the installation are skipped with that message.
 module test_interfaces
@@ -30,6 +32,7 @@ contains
          new_unittest("legacy-f77-robertson", test_legacy_robertson), &
          new_unittest("legacy-solout-dense-output", test_legacy_dense_output), &
          new_unittest("c-van-der-pol", test_c_van_der_pol), &
+         new_unittest("c-contract-on-bad-input", test_c_contract), &
          new_unittest("python-van-der-pol", test_python_van_der_pol), &
          new_unittest("fortran-link-line", test_fortran_link_line), &
          new_unittest("readme-code-is-example-code", test_readme_code) &
@@ -193,6 +196,34 @@ contains
       call numbers_after(run%stdout, "100 calls:  y =", continued(1:1), found)
       call check(error, found .and. abs(continued(1) - u(1)) < 1.0e-6_dp, "100 continued calls differ")
    end subroutine test_c_van_der_pol
+
+   !> The C interface keeps its promises on bad input, as a C program built against the
+   !> installation sees them (test/c_interface_contract.c, run in a process of its own):
+   !> NULL for any pointer is an error status with a message, never a crash; a NULL
+   !> status pointer still creates a handle; names are exact ("h0 " is no option, "
+   !> i-t-2" no scheme); t_end = t0 is refused as the Fortran integrate refuses it; a
+   !> good call after a failed one leaves the message empty.
+   subroutine test_c_contract(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      character(len=:), allocatable :: failed
+      integer :: k
+      if (missing_installation(error)) return
+      call run_command("mkdir -p "//scratch//"/c && "//pkg_config_environment()//"cc -Wall -Wextra -Werror "// &
+         "-DTAYLORODE_CONTRACT_PROGRAM test/c_interface_contract.c $(pkg-config --cflags --libs taylorode) -lm "// &
+         "-o "//scratch//"/c/contract && "//scratch//"/c/contract", run)
+      failed = ""
+      do k = 1, size(run%stdout)
+         if (index(run%stdout(k)%text, "FAIL") == 1) failed = failed//new_line("a")//run%stdout(k)%text
+      end do
+      do k = 1, size(run%stderr)
+         failed = failed//new_line("a")//run%stderr(k)%text
+      end do
+      call check(error, run%exit_status == 0 .and. size(run%stdout) > 0, "the C program failed (exit "// &
+         "status "//format_integer(run%exit_status)//", "//format_integer(size(run%stdout))//" lines):"//failed)
+      if (allocated(error)) return
+      call check(error, run%stdout(size(run%stdout))%text, "0 failed")
+   end subroutine test_c_contract
 
    !> SOLOUT's TAYLORODE_CONTR interpolates each step with the integrator's dense output:
    !> on the oscillator y1' = y2, y2' = -y1 over [0, 2 pi] at rtol = atol = 1e-8 it

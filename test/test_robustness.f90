@@ -8,9 +8,9 @@ module test_robustness
       integrator_options_type, integration_stats_type, step_history_type, write_history_csv, status_ok, &
       status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
       status_evaluation_failed, status_newton_not_converged, status_newton_diverged, matrix_structure_type, &
-      band_structure, integrator_type
+      band_structure, integrator_type, integrate_fixed, status_step_underflow
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
-   use taylorode_base_strings, only: format_real
+   use taylorode_base_strings, only: format_real, fixed_length_real
    use taylorode_interfaces_legacy, only: legacy_solve
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
    use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
@@ -113,9 +113,11 @@ contains
          new_unittest("no-shell-for-user-text", test_no_shell), &
          new_unittest("write-errors-reported", test_write_errors), &
          new_unittest("full-disk-leaves-files-intact", test_full_disk), &
+         new_unittest("file-size-limit-is-a-status", test_file_size_limit), &
          new_unittest("outputs-checked-before-work", test_outputs_checked_first), &
          new_unittest("history-streamed-and-bounded", test_history_streamed), &
          new_unittest("history-reused", test_history_reused), &
+         new_unittest("history-stream-never-left-behind", test_history_stream_completed), &
          new_unittest("concurrent-integrations", test_concurrent_integrations), &
          new_unittest("lapack-never-stops", test_lapack_never_stops), &
          new_unittest("bandwidths-validated", test_bandwidths_validated), &
@@ -134,7 +136,8 @@ contains
          new_unittest("scheme-prepared-by-init-checked", test_scheme_prepared_checked), &
          new_unittest("c-options-checked", test_c_options_checked), &
          new_unittest("legacy-bandwidths-checked", test_legacy_bandwidths_checked), &
-         new_unittest("command-line-mistakes-found-first", test_mistakes_found_first) &
+         new_unittest("command-line-mistakes-found-first", test_mistakes_found_first), &
+         new_unittest("messages-legible-at-any-t", test_messages_legible) &
          ]
    end subroutine collect_robustness
 
@@ -244,6 +247,62 @@ contains
       call run_command("umount "//disk, run)
    end subroutine test_full_disk
 
+   !> (2) Under a file-size limit (ulimit -f) the app does not die of SIGXFSZ: a history,
+   !> a table or its report that outgrows the limit is an error (exit status 1, "File too
+   !> large"), the file that was there is left as it was, no temporary file remains and
+   !> no truncated file appears; the outputs that fit are written.
+   subroutine test_file_size_limit(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: directory = scratch//"/out"
+      type(run_type) :: run
+      type(line_type), allocatable :: lines(:)
+      integer :: unit
+
+      call fresh_scratch()
+      open (newunit=unit, file=directory//"/h.csv", status="replace", action="write")
+      write (unit, '(a)') "previous contents"
+      close (unit)
+      ! the history (1.3 MB) against 8 KiB
+      call run_command("( ulimit -f 8; exec "//app_path()//" vdp --mu 10 --tend 20 --history "//directory// &
+         "/h.csv --force )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "File too large"), &
+         "a history beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+      if (allocated(error)) return
+      call read_lines(directory//"/h.csv", lines)
+      call check(error, size(lines) == 1 .and. has_line(lines, "previous contents"), &
+         "the existing history was overwritten")
+      if (allocated(error)) return
+      call expect_no_temporary("the history")
+      if (allocated(error)) return
+      ! the S1 regions table (0.5 MB) against 8 KiB; the two small tables are written
+      call run_command("( ulimit -f 8; exec "//app_path()//" stability --grid 41 --out "//directory//" )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "File too large") .and. &
+         .not. file_exists(directory//"/s1_regions.csv") .and. file_exists(directory//"/l_stability.csv"), &
+         "a table beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+      if (allocated(error)) return
+      call expect_no_temporary("the tables")
+      if (allocated(error)) return
+      ! the report itself (2.6 kB) redirected into a file against 1 KiB
+      call run_command("( ulimit -f 1; exec "//app_path()//" stability --grid 3 > "//directory//"/report.txt )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "standard output: File too large"), &
+         "a report beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+
+   contains
+
+      subroutine expect_no_temporary(after)
+         character(len=*), intent(in) :: after
+         call check(error, .not. temporary_file_in(directory), "a temporary file is left after "//after)
+      end subroutine expect_no_temporary
+   end subroutine test_file_size_limit
+
+   !> Whether a temporary file of the library's file writer (name.tmp-PID-N) is in directory.
+   logical function temporary_file_in(directory)
+      character(len=*), intent(in) :: directory
+      type(run_type) :: listing
+      call run_command("ls -a "//directory, listing)
+      temporary_file_in = has_line(listing%stdout, ".tmp-")
+   end function temporary_file_in
+
    !> (3) Every output target is checked before any work starts (exit status 2, nothing
    !> written, no run started).
    subroutine test_outputs_checked_first(error)
@@ -275,8 +334,9 @@ contains
       call check(error, run%exit_status, 2, "an output directory that cannot be created")
    end subroutine test_outputs_checked_first
 
-   !> (4) A streamed history holds nothing in memory and writes every attempt; a bounded
-   !> one keeps at most its capacity and counts the rest.
+   !> (4) A streamed history holds nothing in memory and writes every attempt (the file is
+   !> complete when integrate returns); a bounded one keeps at most its capacity and
+   !> counts the rest.
    subroutine test_history_streamed(error)
       type(error_type), allocatable, intent(out) :: error
       type(van_der_pol_type) :: problem
@@ -299,9 +359,6 @@ contains
       call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat, history=history)
       call check(error, stat%code, status_ok, stat_message(stat))
       if (allocated(error)) return
-      call check(error, .not. file_exists(scratch//"/out/stream.csv"), "the stream appears before finish")
-      if (allocated(error)) return
-      call history%finish(stat)
       call read_lines(scratch//"/out/stream.csv", lines)
       call check(error, .not. allocated(history%t) .and. size(lines) == history%count + 1 .and. &
          history%count == stats%accepted_steps + stats%rejected_steps(), "streamed rows")
@@ -315,6 +372,106 @@ contains
       call check(error, history%count == 50 .and. size(history%t) <= 50 .and. &
          history%dropped == stats%accepted_steps + stats%rejected_steps() - 50, "bounded history")
    end subroutine test_history_streamed
+
+   !> A streamed history is finished in every path, and no temporary file is left behind:
+   !> integrate completes the file when it returns (after a failed integration too, and
+   !> after a refused call, with the header alone; a file it cannot write is
+   !> status_output_error, the integration's own failure kept in the message);
+   !> continued calls (advance_to) write one
+   !> file, which appears at finish; a history dropped unfinished removes its temporary
+   !> file and leaves the destination as it was; a second stream_to drops the first.
+   subroutine test_history_stream_completed(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: directory = scratch//"/out"
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      type(integrator_type) :: integrator
+      type(line_type), allocatable :: lines(:)
+      real(dp) :: u(2)
+      integer :: k
+
+      call fresh_scratch()
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      ! a failed integration (the step budget) still gets its history
+      call history%stream_to(directory//"/failed.csv", stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, integrator_options_type(max_steps=5_i8), stats, stat, &
+         history=history)
+      call read_lines(directory//"/failed.csv", lines)
+      call check(error, stat%code == status_max_steps .and. size(lines) == 6, "history of a failed integration: "// &
+         format_real(real(size(lines), dp), 2)//" lines")
+      if (allocated(error)) return
+      ! a history that cannot be written is the call's status, the integration's reason kept
+      call history%stream_to("/dev/full", stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, integrator_options_type(max_steps=5_i8), stats, stat, &
+         history=history)
+      call check(error, stat%code == status_output_error .and. index(stat_message(stat), "No space left") > 0 &
+         .and. index(stat_message(stat), "maximum number of steps") > 0, stat_message(stat))
+      if (allocated(error)) return
+      ! a refused call: the header alone
+      call history%stream_to(directory//"/refused.csv", stat)
+      call integrate(problem, scheme, 1.0_dp, 1.0_dp, u, integrator_options_type(), stats, stat, history=history)
+      call read_lines(directory//"/refused.csv", lines)
+      call check(error, stat%code == status_invalid_argument .and. size(lines) == 1, "history of a refused call")
+      if (allocated(error)) return
+      call expect_no_temporary("integrate")
+      if (allocated(error)) return
+      ! continued calls: one file, at finish
+      call history%stream_to(directory//"/continued.csv", stat)
+      u = problem%u0
+      call integrator%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+      do k = 1, 3
+         call integrator%advance_to(problem, scheme, real(k, dp), u, stat, history=history)
+      end do
+      call check(error, stat%code == status_ok .and. .not. file_exists(directory//"/continued.csv"), &
+         "the stream of continued calls appeared before finish")
+      if (allocated(error)) return
+      call history%finish(stat)
+      call read_lines(directory//"/continued.csv", lines)
+      call check(error, stat%code == status_ok .and. size(lines) == history%count + 1 .and. &
+         integrator%total%accepted_steps + integrator%total%rejected_steps() == history%count, &
+         "one file for three continued calls")
+      if (allocated(error)) return
+      call expect_no_temporary("finish")
+      if (allocated(error)) return
+      ! dropped unfinished, and replaced by a second stream_to
+      call abandon_stream()
+      call check(error, .not. file_exists(directory//"/abandoned.csv"), "an unfinished stream appeared")
+      if (allocated(error)) return
+      call expect_no_temporary("a history dropped unfinished")
+      if (allocated(error)) return
+      call history%stream_to(directory//"/first.csv", stat)
+      call history%stream_to(directory//"/second.csv", stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(), stats, stat, history=history)
+      call check(error, file_exists(directory//"/second.csv") .and. .not. file_exists(directory//"/first.csv"), &
+         "a second stream_to")
+      if (allocated(error)) return
+      call expect_no_temporary("a second stream_to")
+
+   contains
+
+      !> advance_to into a stream, and the history goes out of scope without finish
+      subroutine abandon_stream()
+         type(step_history_type) :: dropped
+         type(integrator_type) :: continued
+         call dropped%stream_to(directory//"/abandoned.csv", stat)
+         u = problem%u0
+         call continued%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+         call continued%advance_to(problem, scheme, 1.0_dp, u, stat, history=dropped)
+      end subroutine abandon_stream
+
+      subroutine expect_no_temporary(after)
+         character(len=*), intent(in) :: after
+         if (allocated(error)) return
+         call check(error, .not. temporary_file_in(directory), "a temporary file is left after "//after)
+      end subroutine expect_no_temporary
+   end subroutine test_history_stream_completed
 
    !> (8) One history for several integrations: states off then on, 2 then 3 unknowns.
    subroutine test_history_reused(error)
@@ -1018,5 +1175,48 @@ contains
             "taylorode "//arguments(:min(len(arguments), 80)))
       end subroutine expect_usage_error
    end subroutine test_mistakes_found_first
+
+   !> Failure messages print every time legibly, before t = 0 and far from it too (a
+   !> fixed-width edit descriptor printed asterisks for t < 0 and dropped the E of a
+   !> three-digit exponent), and they are still built in fixed-length buffers.
+   subroutine test_messages_legible(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      type(poisoned_after_type) :: poisoned
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2), v(1)
+
+      problem = new_van_der_pol(10.0_dp)
+      call new_scheme("i-t-1", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, -10.0_dp, -5.0_dp, u, integrator_options_type(max_steps=2_i8), stats, stat)
+      call expect(status_max_steps, "reached at t = -")
+      u = problem%u0
+      call integrate(problem, scheme, -10.0_dp, -5.0_dp, u, integrator_options_type(h_min=0.5_dp), &
+         stats, stat)
+      call expect(status_step_underflow, "roundoff of t = -1.000000E+01")
+      poisoned%t_bad = -9.0_dp
+      v = 1.0_dp
+      call integrate(poisoned, scheme, -10.0_dp, -5.0_dp, v, integrator_options_type(), stats, stat)
+      call expect(status_nonfinite, "at t = -9.")
+      poisoned%t_bad = -1.4e-100_dp
+      v = 1.0_dp
+      call integrate_fixed(poisoned, scheme, -2.0e-100_dp, -1.0e-100_dp, 2, v, stat)
+      call expect(status_nonfinite, "(step from t = -1.5000000000000000E-100)")
+      if (allocated(error)) return
+      call check(error, trim(fixed_length_real(-7.927342e2_dp, 7))//" "//trim(fixed_length_real(1.0e-300_dp, 2))// &
+         " "//trim(fixed_length_real(ieee_value(1.0_dp, ieee_quiet_nan)))//" "// &
+         trim(fixed_length_real(-ieee_value(1.0_dp, ieee_positive_inf))), "-7.927342E+02 1.0E-300 nan -inf")
+   contains
+      subroutine expect(code, words)
+         integer, intent(in) :: code
+         character(len=*), intent(in) :: words
+         if (allocated(error)) return
+         call check(error, stat%code == code .and. index(stat_message(stat), "*") == 0 .and. &
+            index(stat_message(stat), words) > 0, "expected """//words//""" in: "//stat_message(stat))
+      end subroutine expect
+   end subroutine test_messages_legible
 
 end module test_robustness

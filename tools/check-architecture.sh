@@ -4,7 +4,10 @@
 #      taylorode_<area>_<topic> (facades: src/taylorode.f90, src/taylorode/<area>.f90);
 #   2. no module uses a module of an area it may not use (no upward arrow);
 #   3. a dependent fpm project that integrates a problem of its own through the
-#      facade `taylorode` compiles no test-set, analysis or app module.
+#      facade `taylorode` compiles no test-set, analysis or app module;
+#   4. app/main.f90 holds the program and every other file app/<name>.f90 one module
+#      app_<name> (never taylorode_*: make install removes the app's modules, and an
+#      installation holds the library's modules only).
 # Prints one line per violation and "architecture: ok" when there is none.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -62,6 +65,18 @@ while IFS= read -r file; do
     esac
   done
 done < <(find src -name '*.f90' | sort)
+
+# The app: one program, and one module per file named after it
+while IFS= read -r file; do
+  base="$(basename "$file" .f90)"
+  modules="$(grep -ioE '^\s*module\s+[a-z0-9_]+\s*$' "$file" | awk '{print tolower($2)}')"
+  if [ "$base" = main ]; then
+    [ -z "$modules" ] || complain "$file: the program's file defines modules: $(echo $modules)"
+    grep -qiE '^\s*program\s+' "$file" || complain "$file: holds no program"
+  elif [ "$modules" != "app_$base" ]; then
+    complain "$file: defines \"$(echo $modules)\", expected exactly \"app_$base\""
+  fi
+done < <(find app -name '*.f90' | sort)
 
 # A dependent project: only what its `use` statements reach is compiled (fpm prunes).
 dependent="build/check-architecture/dependent"

@@ -4,6 +4,7 @@
 module taylorode_analysis_work_precision
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_strings, only: fixed_length_real
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_integrate_options, only: integrator_options_type
@@ -168,7 +169,6 @@ contains
       procedure(progress_interface), optional :: progress
       type(integrator_options_type) :: options
       type(timed_run_type) :: run
-      character(len=24) :: tol_text
       integer :: k, decade, decades, point
 
       decades = nint(log10(config%tol_high/config%tol_low)) + 1
@@ -182,8 +182,8 @@ contains
                p%tol = config%tol_high/10.0_dp**decade
                options = integrator_options_type(rtol=p%tol, atol=p%tol*tolerance_scale(problem), &
                   max_steps=config%budget)
-               write (tol_text, '(es8.1)') p%tol
-               if (present(progress)) call progress("sweep: "//trim(p%scheme)//" tol "//trim(adjustl(tol_text)))
+               if (present(progress)) call progress("sweep: "//trim(p%scheme)//" tol "// &
+                  trim(fixed_length_real(p%tol, 2)))
                call timed_run(problem, trim(p%scheme), options, problem%t0, problem%t_end, problem%u0, &
                   config%repeats, run)
                p%accepted = run%stats%accepted_steps

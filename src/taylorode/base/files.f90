@@ -8,6 +8,9 @@
 !> The bytes go through POSIX open(2), write(2) and close(2), whose every result is
 !> checked (the Fortran runtime does not report every failed write). Directories are
 !> created without a shell, through mkdir(2); file types come from statx(2). Linux.
+!> A write beyond a file-size limit fails (EFBIG) only in a process that ignores
+!> SIGXFSZ, whose default action ends the process first; signal dispositions are the
+!> program's to choose (the app ignores it), never changed here.
 module taylorode_base_files
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_int8_t, c_int16_t, c_size_t, &
       c_ptr, c_long, c_f_pointer

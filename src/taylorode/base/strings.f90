@@ -4,7 +4,7 @@ module taylorode_base_strings
    implicit none
    private
 
-   public :: format_real, format_count, format_fixed, format_integer, format_number, pad, choose
+   public :: format_real, fixed_length_real, format_count, format_fixed, format_integer, format_number, pad, choose
 
    !> A whole number as text, without separators
    interface format_integer
@@ -33,24 +33,37 @@ contains
       text = trim(buffer)
    end function format_wide_integer
 
-   !> A real in scientific notation with `digits` significant digits (e.g. 1.23e-05).
+   !> A real in scientific notation with `digits` significant digits (e.g. 1.23E-05).
    pure function format_real(x, digits) result(text)
       !> The number
       real(dp), intent(in) :: x
       !> Significant digits (default 3)
       integer, intent(in), optional :: digits
       character(len=:), allocatable :: text
-      character(len=40) :: buffer, form
-      integer :: d
+      text = trim(fixed_length_real(x, digits))
+   end function format_real
+
+   !> A real as format_real writes it (1.23E-05, -7.927342E+02, 1.0E-300, nan, -inf),
+   !> left-adjusted in a fixed-length result to be trimmed: for messages built in
+   !> fixed-length buffers, where a deferred-length function result is not thread-safe
+   !> with gfortran 12 (what an integration reports must be). Every value is legible:
+   !> no field too narrow for a sign, no exponent without its E.
+   pure function fixed_length_real(x, digits) result(text)
+      !> The number
+      real(dp), intent(in) :: x
+      !> Significant digits (default 3; 1 to 30)
+      integer, intent(in), optional :: digits
+      character(len=40) :: text
+      character(len=24) :: form
+      integer :: d, point
       d = 3
-      if (present(digits)) d = digits
+      if (present(digits)) d = min(max(digits, 1), 30)
       if (x /= x) then
          text = "nan"
          return
       end if
       if (abs(x) > huge(x)) then
          text = merge("inf ", "-inf", x > 0.0_dp)
-         text = trim(text)
          return
       end if
       ! three exponent digits where two cannot hold the exponent (1e-100, 1e100)
@@ -59,11 +72,14 @@ contains
       else
          write (form, '("(es", i0, ".", i0, "e2)")') d + 7, d - 1
       end if
-      write (buffer, form) x
-      text = trim(adjustl(buffer))
+      write (text, form) x
+      text = adjustl(text)
       ! one digit: "1.E+04" reads better as "1E+04"
-      if (d == 1) text = text(:index(text, ".") - 1)//text(index(text, ".") + 1:)
-   end function format_real
+      if (d == 1) then
+         point = index(text, ".")
+         text = text(:point - 1)//text(point + 1:)
+      end if
+   end function fixed_length_real
 
    !> A real as people write it: whole numbers below 1e9 without decimals (3000),
    !> anything else in scientific notation with 3 digits (1.00E-05).

@@ -3,6 +3,7 @@ module taylorode_integrate_fixed_step
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_status, set_code, status_description, status_ok, &
       status_invalid_argument, status_nonfinite, status_evaluation_failed
+   use taylorode_base_strings, only: fixed_length_real
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, default_newton_settings
@@ -67,8 +68,8 @@ contains
             call set_code(stat, status_nonfinite)
          end if
          if (stat%code /= status_ok) then
-            write (where, '(a, ": ", a, " (step from t = ", es24.16, ")")') "integrate_fixed", &
-               trim(status_description(stat%code)), t
+            write (where, '(a, ": ", a, " (step from t = ", a, ")")') "integrate_fixed", &
+               trim(status_description(stat%code)), trim(fixed_length_real(t, 17))
             stat%message = trim(where)
             if (present(t_reached)) t_reached = t
             return

@@ -35,6 +35,14 @@ module taylorode_integrate_history
    !> Every attempted step: start time, size, weighted error, outcome, Newton iterations
    !> (and the state after it when options%history_states is set). `integrate` starts
    !> the history afresh on entry, so one history may serve several integrations.
+   !>
+   !> Streamed into a file (`stream_to`), the rows go to a temporary file beside it that
+   !> is renamed into place by `finish` when every row was written (else removed):
+   !> `integrate` finishes the stream when it returns; continued calls (`advance_to`)
+   !> write one file, which the caller finishes after the last call. A history that is
+   !> dropped unfinished (it goes out of scope, is deallocated, or streams anew) removes
+   !> its temporary file and leaves the destination as it was. A streaming history must
+   !> not be copied (the copies would share one file).
    type :: step_history_type
       !> Attempts recorded (kept in memory, or written to the stream)
       integer :: count = 0
@@ -72,6 +80,8 @@ module taylorode_integrate_history
       procedure :: finish
       !> Whether writing the stream failed
       procedure :: failed
+      !> A stream never finished is removed (its temporary file)
+      final :: drop_unfinished_stream
    end type step_history_type
 
 contains
@@ -102,8 +112,8 @@ contains
    end function outcome_word
 
    !> Begin an integration: in memory, forget what earlier integrations recorded; in a
-   !> stream, write the header once (a stream may collect several integrations with the
-   !> same number of state columns).
+   !> stream, write the header once (a stream collects the calls of one continued
+   !> integration, with the same number of state columns, until `finish`).
    subroutine start(self, state_columns, stat)
       !> The history
       class(step_history_type), intent(inout) :: self
@@ -237,16 +247,23 @@ contains
    end subroutine write_row
 
    !> Send every following row into the CSV file `path`, written to a temporary file
-   !> beside it until `finish` renames it into place.
+   !> beside it until `finish` renames it into place (`integrate` finishes it when it
+   !> returns). A stream not yet finished is dropped first (its destination left as it was).
    subroutine stream_to(self, path, stat)
       !> The history
       class(step_history_type), intent(inout) :: self
       !> Destination (an existing file is replaced only by a complete new one)
       character(len=*), intent(in) :: path
-      !> status_output_error when the file cannot be created
+      !> status_output_error when the file cannot be created (left as it was otherwise)
       type(status_type), intent(inout) :: stat
-      call self%stream%open(path, stat)
-      if (stat%code /= status_ok) return
+      type(status_type) :: open_stat
+      if (self%streaming) call self%stream%discard()
+      self%streaming = .false.
+      call self%stream%open(path, open_stat)
+      if (open_stat%code /= status_ok) then
+         stat = open_stat
+         return
+      end if
       self%streaming = .true.
       self%header_written = .false.
       self%count = 0
@@ -264,6 +281,15 @@ contains
       call self%stream%commit(stat)
       self%streaming = .false.
    end subroutine finish
+
+   !> What finalizing a history does: a stream never finished is discarded, so that no
+   !> temporary file outlives its history.
+   subroutine drop_unfinished_stream(self)
+      !> The history
+      type(step_history_type), intent(inout) :: self
+      if (self%streaming) call self%stream%discard()
+      self%streaming = .false.
+   end subroutine drop_unfinished_stream
 
    !> Whether a write to the stream has failed (the integration should stop).
    logical function failed(self)

@@ -10,6 +10,7 @@ module taylorode_integrate_integrator
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
       status_output_error, status_description
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
+   use taylorode_base_strings, only: fixed_length_real
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs
    use taylorode_integrate_options, only: integrator_options_type, validate_options, estimate_defect
@@ -82,7 +83,9 @@ contains
    !> times in [t0, t_end]) the solution at those times comes back in u_out(:, k)
    !> from the dense output of each accepted step (the scheme's own continuous
    !> extension, else the cubic Hermite interpolant). With `history`
-   !> every attempted step is recorded; `observer` is called after every accepted
+   !> every attempted step is recorded (a history streamed into a file is finished when
+   !> integrate returns, whatever the outcome; one that cannot be written is
+   !> status_output_error); `observer` is called after every accepted
    !> step; `events` locates zero crossings (a terminal one ends the integration
    !> there, with status ok). Backward integration (t_end < t0) is not supported:
    !> substitute s = -t.
@@ -127,16 +130,19 @@ contains
       if (.not. (ieee_is_finite(t_end) .and. t_end > t0)) then
          call set_status(stat, status_invalid_argument, "integrate: t_end must be finite and greater than t0 "// &
             "(backward integration is not supported: substitute s = -t)")
+         call complete_stream(history, stat)
          return
       end if
       if (present(t_out) .neqv. present(u_out)) then
          call set_status(stat, status_invalid_argument, outputs_together)
+         call complete_stream(history, stat)
          return
       end if
       call integrator%init(problem, scheme, t0, u, options, stat)
       if (stat%code /= status_ok) then
          stats = integrator%total
          stats%t_reached = t0
+         call complete_stream(history, stat)
          return
       end if
       ! output arrays are passed on only when given: gfortran builds a descriptor for an
@@ -149,7 +155,27 @@ contains
       end if
       ! the work of init (F at t0 for the first step size) belongs to this integration
       stats%work = integrator%total%work
+      call complete_stream(history, stat)
    end subroutine integrate
+
+   !> The end of integrate: a history streamed into a file is finished (renamed into
+   !> place when every row was written, else removed). A history that could not be
+   !> written makes the call's status status_output_error, with the reason the
+   !> integration stopped before, if it did, in the message.
+   subroutine complete_stream(history, stat)
+      type(step_history_type), intent(inout), optional :: history
+      type(status_type), intent(inout) :: stat
+      type(status_type) :: file_stat
+      if (.not. present(history)) return
+      call history%finish(file_stat)
+      if (file_stat%code == status_ok) return
+      if (stat%code == status_ok .or. stat%code == status_output_error) then
+         stat = file_stat
+      else
+         call set_status(stat, status_output_error, file_stat%message//"; the integration had stopped before: "// &
+            stat%message)
+      end if
+   end subroutine complete_stream
 
    !> Check the sizes, times, initial state and options, prepare the scheme for the
    !> problem (forgetting what it kept from earlier integrations) and choose the first
@@ -368,8 +394,8 @@ contains
       trouble_end = t
       do while (t < t_target)
          if (attempts >= self%options%max_steps) then
-            write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", es13.6e3)') &
-               self%options%max_steps, t
+            write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", a)') &
+               self%options%max_steps, trim(fixed_length_real(t, 7))
             call set_status(stat, status_max_steps, trim(text))
             exit
          end if
@@ -377,8 +403,8 @@ contains
          last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
          if (last) h = t_target - t
          if (h < self%options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
-            write (text, '("integrate: step size ", es13.6e3, " below the minimum step or the roundoff of t = ", &
-               &es13.6e3)') h, t
+            write (text, '("integrate: step size ", a, " below the minimum step or the roundoff of t = ", a)') &
+               trim(fixed_length_real(h, 7)), trim(fixed_length_real(t, 7))
             call set_status(stat, status_step_underflow, trim(text))
             exit
          end if
@@ -457,20 +483,21 @@ contains
             end select
             call record_attempt(nan, outcome, newton_before, u)
             if (problem%evaluation_fatal()) then
-               write (text, '("integrate: the problem stopped the integration at t = ", es13.6e3)') t
+               write (text, '("integrate: the problem stopped the integration at t = ", a)') &
+                  trim(fixed_length_real(t, 7))
                call set_status(stat, status_evaluation_failed, trim(text))
                exit
             end if
             if (failures >= self%options%max_failures) then
-               write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", es13.6e3, &
-                  &", last: ", a)') failures, t, trim(status_description(step_stat%code))
+               write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", a, &
+                  &", last: ", a)') failures, trim(fixed_length_real(t, 7)), trim(status_description(step_stat%code))
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
             if (troubles >= self%options%max_failures) then
-               write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", es13.6e3, &
-                  &" (stopped at t = ", es13.6e3, ")")') trim(status_description(step_stat%code)), troubles, &
-                  trouble_end, t
+               write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", a, &
+                  &" (stopped at t = ", a, ")")') trim(status_description(step_stat%code)), troubles, &
+                  trim(fixed_length_real(trouble_end, 7)), trim(fixed_length_real(t, 7))
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if

@@ -5,13 +5,22 @@
 !> code (TAYLORODE_OK = 0, the library's status codes otherwise) and never stops or
 !> prints. Callbacks return 0 on success, > 0 when they cannot evaluate at the point
 !> given (the step is retried with a smaller step) and < 0 to stop the integration.
+!>
+!> C passes what it likes: a NULL handle, array, name or result pointer is
+!> TAYLORODE_INVALID_ARGUMENT (with a message on the handle when there is one), never
+!> a dereference (the pointer arguments are optional dummies, absent when NULL); the
+!> one exception is taylorode_create's status, which may be NULL. Names are compared
+!> exactly, as C strings: "h0 " is no option and "i-t-2 " no scheme. Every function
+!> that sets or integrates something leaves taylorode_message empty when it succeeds
+!> and the reason when it fails; taylorode_get_stats changes the message only when it
+!> fails, so that a failed integration's statistics and message can be read in either order.
 module taylorode_interfaces_c
    use, intrinsic :: iso_c_binding, only: c_int, c_long, c_double, c_char, c_ptr, c_funptr, c_null_ptr, &
       c_null_funptr, c_null_char, c_loc, c_f_pointer, c_f_procpointer, c_associated
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
-      status_size_mismatch
+      status_size_mismatch, status_unknown_scheme
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
    use taylorode_schemes_scheme, only: scheme_type
@@ -24,6 +33,15 @@ module taylorode_interfaces_c
    private
 
    public :: taylorode_stats_c
+
+   !> Longest scheme or option name read from a C string (the real ones are far shorter)
+   integer, parameter :: max_name_length = 255
+   !> What taylorode_message returns for a NULL handle
+   character(len=*), parameter :: no_handle_text = "no handle: ode is NULL (did taylorode_create fail?)"
+   !> That text as a C string (read-only: threads may share it)
+   character(kind=c_char), target, save :: no_handle_message(len(no_handle_text) + 1) = &
+      [character(kind=c_char) :: transfer(no_handle_text, [character(kind=c_char) :: "a"], len(no_handle_text)), &
+      c_null_char]
 
    !> What taylorode_get_stats fills (taylorode_stats_t in the header)
    type, bind(c) :: taylorode_stats_c
@@ -97,17 +115,41 @@ contains
       if (c_associated(handle)) call c_f_pointer(handle, session)
    end function session_of
 
-   !> A Fortran string from a NUL-terminated C string (at most 256 characters).
+   !> A Fortran string from a NUL-terminated C string (at most max_name_length + 1
+   !> characters are read: a longer string comes back too long to be a name).
    function from_c_string(text) result(value)
       character(kind=c_char), intent(in) :: text(*)
       character(len=:), allocatable :: value
       integer :: k
-      do k = 1, 256
+      do k = 1, max_name_length + 1
          if (text(k) == c_null_char) exit
       end do
       allocate (character(len=k - 1) :: value)
       value = transfer(text(1:k - 1), value)
    end function from_c_string
+
+   !> Whether a C string can be a name as given: not empty, not too long, and without
+   !> the blanks at either end that Fortran's comparisons would ignore.
+   pure logical function exact_name(value)
+      character(len=*), intent(in) :: value
+      exact_name = len(value) > 0 .and. len(value) <= max_name_length
+      if (exact_name) exact_name = value(1:1) /= " " .and. value(len(value):len(value)) /= " "
+   end function exact_name
+
+   !> A call's success: the message is emptied.
+   integer(c_int) function succeeded(session) result(code)
+      type(session_type), intent(inout) :: session
+      code = remember(session, status_type())
+   end function succeeded
+
+   !> A call refused for a NULL pointer argument: status_invalid_argument and `message`.
+   integer(c_int) function refused(session, message) result(code)
+      type(session_type), intent(inout) :: session
+      character(len=*), intent(in) :: message
+      type(status_type) :: stat
+      call set_status(stat, status_invalid_argument, message)
+      code = remember(session, stat)
+   end function refused
 
    !> Remember a status and its message; return its code.
    integer(c_int) function remember(session, stat) result(code)
@@ -125,28 +167,50 @@ contains
       code = int(stat%code, c_int)
    end function remember
 
-   !> `taylorode_create`: a handle for `scheme` and n unknowns, or null (the status in *status).
+   !> `taylorode_create`: a handle for `scheme` and n unknowns, or null (the status in
+   !> *status: status_invalid_argument for a NULL name, status_unknown_scheme for a
+   !> name that is not exactly one of the schemes', status_size_mismatch for n < 1).
+   !> status may be NULL: the handle is created all the same, and a failure shows only
+   !> as the null handle.
    function taylorode_create(scheme, n, status) result(handle) bind(c, name="taylorode_create")
-      character(kind=c_char), intent(in) :: scheme(*)
+      character(kind=c_char), intent(in), optional :: scheme(*)
       integer(c_int), value :: n
-      integer(c_int), intent(out) :: status
+      integer(c_int), intent(out), optional :: status
       type(c_ptr) :: handle
       type(session_type), pointer :: session
       type(status_type) :: stat
+      character(len=:), allocatable :: name
       handle = c_null_ptr
+      if (.not. present(scheme)) then
+         call report(status_invalid_argument)
+         return
+      end if
       if (n < 1) then
-         status = status_size_mismatch
+         call report(status_size_mismatch)
+         return
+      end if
+      name = from_c_string(scheme)
+      if (.not. exact_name(name)) then
+         call report(status_unknown_scheme)
          return
       end if
       allocate (session)
-      call new_scheme(from_c_string(scheme), session%scheme, stat)
-      status = int(stat%code, c_int)
+      call new_scheme(name, session%scheme, stat)
+      call report(stat%code)
       if (stat%code /= status_ok) then
          deallocate (session)
          return
       end if
       session%n = n
       handle = c_loc(session)
+
+   contains
+
+      !> *status = code, when there is a status to write
+      subroutine report(code)
+         integer, intent(in) :: code
+         if (present(status)) status = int(code, c_int)
+      end subroutine report
    end function taylorode_create
 
    !> `taylorode_free`: release a handle (null is fine).
@@ -171,7 +235,7 @@ contains
       session%problem%jac_f_callback = jac_f
       session%problem%jac_g_callback = jac_g
       session%problem%user_data = user_data
-      code = status_ok
+      code = succeeded(session)
    end function taylorode_set_functions
 
    !> `taylorode_set_bandwidths`: banded Jacobians (the callbacks then fill band storage,
@@ -194,7 +258,7 @@ contains
       session%problem%structure = band_structure(lower, upper)
       if (allocated(session%problem%band_work)) deallocate (session%problem%band_work)
       allocate (session%problem%band_work(lower + upper + 1, session%n))
-      code = status_ok
+      code = succeeded(session)
    end function taylorode_set_bandwidths
 
    !> `taylorode_set_tolerances`: scalar rtol and atol.
@@ -210,32 +274,37 @@ contains
       session%options%atol = atol
       if (allocated(session%options%rtol_vector)) deallocate (session%options%rtol_vector)
       if (allocated(session%options%atol_vector)) deallocate (session%options%atol_vector)
-      code = status_ok
+      code = succeeded(session)
    end function taylorode_set_tolerances
 
-   !> `taylorode_set_tolerance_vectors`: rtol and atol per component (n each).
+   !> `taylorode_set_tolerance_vectors`: rtol and atol per component (n each, neither NULL).
    integer(c_int) function taylorode_set_tolerance_vectors(handle, rtol, atol) result(code) &
       bind(c, name="taylorode_set_tolerance_vectors")
       type(c_ptr), value :: handle
-      real(c_double), intent(in) :: rtol(*), atol(*)
+      real(c_double), intent(in), optional :: rtol(*), atol(*)
       type(session_type), pointer :: session
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
+      if (.not. (present(rtol) .and. present(atol))) then
+         code = refused(session, "taylorode_set_tolerance_vectors: rtol and atol must each point to n values, "// &
+            "not NULL")
+         return
+      end if
       session%options%rtol_vector = rtol(:session%n)
       session%options%atol_vector = atol(:session%n)
-      code = status_ok
+      code = succeeded(session)
    end function taylorode_set_tolerance_vectors
 
    !> `taylorode_set_option`: a real or whole-number option by name ("h0", "h_min",
    !> "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction", "max_steps",
    !> "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0 or 1),
-   !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)). The integrator
-   !> checks the values when it starts.
+   !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)), exactly as written
+   !> here. The integrator checks the values when it starts.
    integer(c_int) function taylorode_set_option(handle, name, value) result(code) &
       bind(c, name="taylorode_set_option")
       type(c_ptr), value :: handle
-      character(kind=c_char), intent(in) :: name(*)
+      character(kind=c_char), intent(in), optional :: name(*)
       real(c_double), value :: value
       type(session_type), pointer :: session
       type(status_type) :: stat
@@ -243,7 +312,17 @@ contains
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
+      if (.not. present(name)) then
+         code = refused(session, "taylorode_set_option: the option's name is NULL")
+         return
+      end if
       option = from_c_string(name)
+      if (.not. exact_name(option)) then
+         ! "h0 " is not "h0", although Fortran's select case would take it for it
+         call set_status(stat, status_invalid_argument, 'taylorode_set_option: unknown option "'//option//'"')
+         code = remember(session, stat)
+         return
+      end if
       associate (options => session%options)
          select case (option)
          case ("h0"); options%h0 = value
@@ -300,12 +379,16 @@ contains
    integer(c_int) function taylorode_init(handle, t0, u0) result(code) bind(c, name="taylorode_init")
       type(c_ptr), value :: handle
       real(c_double), value :: t0
-      real(c_double), intent(in) :: u0(*)
+      real(c_double), intent(in), optional :: u0(*)
       type(session_type), pointer :: session
       type(status_type) :: stat
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
+      if (.not. present(u0)) then
+         code = refused(session, "taylorode_init: u0 is NULL (it must point to n values)")
+         return
+      end if
       if (.not. c_associated(session%problem%g_callback) .and. .not. c_associated(session%problem%f_callback)) then
          call set_status(stat, status_invalid_argument, "taylorode_init: set f or g first (taylorode_set_functions)")
          code = remember(session, stat)
@@ -316,39 +399,63 @@ contains
       code = remember(session, stat)
    end function taylorode_init
 
-   !> `taylorode_advance_to`: continue to t; u holds the state at the current time on
-   !> entry (it may have been changed) and at t on exit.
+   !> `taylorode_advance_to`: continue to t, which must not lie before the current time
+   !> (t equal to it returns at once, as the Fortran advance_to does); u holds the state
+   !> at the current time on entry (it may have been changed) and at t on exit.
    integer(c_int) function taylorode_advance_to(handle, t, u) result(code) bind(c, name="taylorode_advance_to")
       type(c_ptr), value :: handle
       real(c_double), value :: t
-      real(c_double), intent(inout) :: u(*)
+      real(c_double), intent(inout), optional :: u(*)
       type(session_type), pointer :: session
       type(status_type) :: stat
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
+      if (.not. present(u)) then
+         code = refused(session, "taylorode_advance_to: u is NULL (it must point to n values)")
+         return
+      end if
       call session%integrator%advance_to(session%problem, session%scheme, t, u(:session%n), stat)
       code = remember(session, stat)
    end function taylorode_advance_to
 
-   !> `taylorode_integrate`: from t0 to t_end in one call (init, then advance_to).
+   !> `taylorode_integrate`: from t0 to t_end > t0 in one call (init, then advance_to);
+   !> t_end <= t0 is refused before anything changes, as the Fortran integrate refuses it.
    integer(c_int) function taylorode_integrate(handle, t0, t_end, u) result(code) bind(c, name="taylorode_integrate")
       type(c_ptr), value :: handle
       real(c_double), value :: t0, t_end
-      real(c_double), intent(inout) :: u(*)
+      real(c_double), intent(inout), optional :: u(*)
+      type(session_type), pointer :: session
+      session => session_of(handle)
+      code = status_invalid_argument
+      if (.not. associated(session)) return
+      if (.not. present(u)) then
+         code = refused(session, "taylorode_integrate: u is NULL (it must point to n values)")
+         return
+      end if
+      if (.not. (ieee_is_finite(t_end) .and. t_end > t0)) then
+         code = refused(session, "taylorode_integrate: t_end must be finite and greater than t0 (backward "// &
+            "integration is not supported: substitute s = -t)")
+         return
+      end if
       code = taylorode_init(handle, t0, u)
       if (code /= status_ok) return
       code = taylorode_advance_to(handle, t_end, u)
    end function taylorode_integrate
 
-   !> `taylorode_get_stats`: the statistics since taylorode_init.
+   !> `taylorode_get_stats`: the statistics since taylorode_init. It only reads: the
+   !> message stays the last call's unless stats is NULL.
    integer(c_int) function taylorode_get_stats(handle, stats) result(code) bind(c, name="taylorode_get_stats")
       type(c_ptr), value :: handle
-      type(taylorode_stats_c), intent(out) :: stats
+      type(taylorode_stats_c), intent(out), optional :: stats
       type(session_type), pointer :: session
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
+      if (.not. present(stats)) then
+         code = refused(session, "taylorode_get_stats: stats is NULL")
+         return
+      end if
       associate (total => session%integrator%total)
          stats%accepted_steps = int(total%accepted_steps, c_long)
          stats%rejected_steps = int(total%rejected_steps(), c_long)
@@ -366,14 +473,18 @@ contains
    end function taylorode_get_stats
 
    !> `taylorode_message`: the message of the last call that set a status ("" when it
-   !> succeeded), valid until the next call on the handle.
+   !> succeeded), valid until the next call on the handle; for a NULL handle a constant
+   !> text that says so. Never NULL.
    function taylorode_message(handle) result(text) bind(c, name="taylorode_message")
       type(c_ptr), value :: handle
       type(c_ptr) :: text
       type(session_type), pointer :: session
       session => session_of(handle)
-      text = c_null_ptr
-      if (associated(session)) text = c_loc(session%message)
+      if (associated(session)) then
+         text = c_loc(session%message)
+      else
+         text = c_loc(no_handle_message)
+      end if
    end function taylorode_message
 
    !> Call a part's callback; a nonzero return rejects the evaluation (fatal when < 0).
