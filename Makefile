@@ -3,7 +3,8 @@
 # prints nothing when nothing is.
 #
 #   make run             the main job: the paper's Table 1 (fpm run --profile release)
-#   make test            every test suite (fpm test); the last line is "N passed, N failed"
+#   make test            every test suite (fpm test, the accuracy suite in the release build);
+#                        the last line is "N passed, N failed"
 #   make test-checked    the tests with run-time checks and floating-point traps
 #   make test-sanitize   the tests under AddressSanitizer and UBSan, with OpenMP (threads run in parallel)
 #   make test-threads    the tests built with OpenMP: concurrent integrations really run in parallel
@@ -62,7 +63,7 @@ define fpm_test
 	exit $$status
 endef
 
-.PHONY: help setup run test test-checked test-sanitize test-threads test-install build install floor docs figures \
+.PHONY: help setup run test test-suites test-checked test-sanitize test-threads test-install build install floor docs figures \
 	ensemble test-mpi test-petsc
 
 help:
@@ -74,8 +75,29 @@ setup:
 run: setup
 	@fpm run --profile release $(args)
 
+# every suite: the debug build's, then the accuracy suite in the release build (its
+# hundreds of integrations take 90 s in the debug build, 17 s in the release build);
+# one summary line for both. With ARGS, the suite(s) asked for (accuracy in release).
 test: setup test-install
-	$(call fpm_test)
+ifeq ($(strip $(ARGS)),)
+	@debug="$$(mktemp)"; release="$$(mktemp)"; trap 'rm -f "$$debug" "$$release"' EXIT; status=0; \
+	$(MAKE) --no-print-directory test-suites 2>&1 | tee "$$debug"; [ "$${PIPESTATUS[0]}" -eq 0 ] || status=1; \
+	$(MAKE) --no-print-directory test-suites ARGS=accuracy 2>&1 | tee "$$release"; \
+	[ "$${PIPESTATUS[0]}" -eq 0 ] || status=1; \
+	passed=0; failed=0; \
+	for log in "$$debug" "$$release"; do \
+	  line="$$(grep -E '^[0-9]+ passed, [0-9]+ failed$$' "$$log" | tail -n 1)"; \
+	  [ -n "$$line" ] || line="0 passed, 1 failed"; \
+	  set -- $$line; passed=$$((passed + $$1)); failed=$$((failed + $$3)); done; \
+	echo "$$passed passed, $$failed failed"; \
+	exit $$status
+else
+	@$(MAKE) --no-print-directory test-suites ARGS="$(ARGS)"
+endif
+
+# the suites in ARGS (default: all but accuracy) with fpm test; accuracy in the release build
+test-suites:
+	$(call fpm_test,$(if $(filter accuracy,$(firstword $(ARGS))),--profile release))
 
 test-checked: setup test-install
 	$(call fpm_test,--profile debug --flag "$(CHECKED_FLAGS)")

@@ -1,8 +1,11 @@
-!> Runs every test suite, one suite (`fpm test -- <suite>`) or one test
-!> (`fpm test -- <suite> <test>`), and closes with the line "N passed, N failed".
+!> Runs every test suite but the accuracy suite (hundreds of integrations: `make test`
+!> runs it in the release build, `fpm test --profile release -- accuracy`), one suite
+!> (`fpm test -- <suite>`) or one test (`fpm test -- <suite> <test>`), and closes with
+!> the line "N passed, N failed".
 program tester
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use testdrive, only: run_selected, new_testsuite, testsuite_type, select_suite, unittest_type, get_argument
+   use test_accuracy, only: collect_accuracy
    use test_app, only: collect_app
    use test_base, only: collect_base
    use test_features, only: collect_features
@@ -30,7 +33,8 @@ program tester
       new_testsuite("interfaces", collect_interfaces), &
       new_testsuite("app", collect_app), &
       new_testsuite("robustness", collect_robustness), &
-      new_testsuite("scale", collect_scale) &
+      new_testsuite("scale", collect_scale), &
+      new_testsuite("accuracy", collect_accuracy) &
       ]
    passed = 0
    failed = 0
@@ -51,7 +55,9 @@ program tester
       end if
       call run_suite(suites(is), test_name)
    else
+      ! the accuracy suite only when asked for: make test runs it in the release build
       do is = 1, size(suites)
+         if (suites(is)%name == "accuracy") cycle
          call run_suite(suites(is))
       end do
    end if

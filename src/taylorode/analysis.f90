@@ -1,7 +1,8 @@
 !> Analyses a user can run on their own problems and schemes: the stability
 !> function of a scheme against one real step and its S1 region, observed orders
-!> of convergence, work-precision sweeps (timed runs against a reference), and what
-!> threads buy an ensemble.
+!> of convergence, work-precision sweeps (timed runs against a reference), the
+!> accuracy a scheme achieves against the tolerance on the test set, and what threads
+!> buy an ensemble.
 module taylorode_analysis
    use taylorode_analysis_stability, only: stability_function, step_stability, s1_supremum, s1_contains, &
       s1_axis_crossings
@@ -10,6 +11,8 @@ module taylorode_analysis
       median, work_precision_config_type, work_precision_point_type, work_precision, tolerance_scale, &
       progress_interface
    use taylorode_analysis_ensemble_timing, only: ensemble_timing_type, time_ensemble
+   use taylorode_analysis_accuracy, only: accuracy_case_type, accuracy_point_type, new_accuracy_case, &
+      accuracy_reference, accuracy_run, accuracy_case_names
    implicit none
    private
 
@@ -19,5 +22,7 @@ module taylorode_analysis
    public :: work_precision_config_type, work_precision_point_type, work_precision, tolerance_scale, &
       progress_interface
    public :: ensemble_timing_type, time_ensemble
+   public :: accuracy_case_type, accuracy_point_type, new_accuracy_case, accuracy_reference, accuracy_run, &
+      accuracy_case_names
 
 end module taylorode_analysis

@@ -63,10 +63,14 @@ module taylorode_integrate_integrator
       !> The last states of the solution (when dense output, events or an observer need
       !> them), newest first from ring_newest: the current state and the starts of the
       !> last three accepted steps, for the interpolant through states and the dense
-      !> output's error estimate
+      !> output's error estimate. Their times:
       real(dp) :: ring_t(ring_size) = 0.0_dp
+      !> The states, one column each
       real(dp), allocatable :: ring_u(:, :)
-      integer :: ring_newest = 1, ring_count = 0
+      !> Slot of the newest state
+      integer :: ring_newest = 1
+      !> States kept (0 to ring_size)
+      integer :: ring_count = 0
    contains
       !> Check everything and prepare the scheme at (t0, u0)
       procedure :: init

@@ -58,6 +58,11 @@ module taylorode_integrate_stepper
    !> next step, which no estimate or local extrapolation removes, must stay within
    !> this fraction of the tolerance
    real(dp), parameter :: propagation_fraction = 0.1_dp
+   !> With step doubling, a scheme's filtered trapezoidal defect (2/3 D ~ 2 times the
+   !> doubling estimate on a step that follows the solution) must stay within this many
+   !> tolerances: on a spurious root of the step's equation it is of the size of the
+   !> step's change, where the half steps may agree on it
+   real(dp), parameter :: defect_limit = 4.0_dp
 
    !> Work arrays and controller memory of the step attempts of one integration
    type :: stepper_type
@@ -106,6 +111,8 @@ module taylorode_integrate_stepper
       real(dp), allocatable :: violation(:)
       !> What the error of the step becomes in the next one (schemes that amplify errors)
       real(dp), allocatable :: propagated(:)
+      !> The scheme's filtered trapezoidal defect of the step (schemes that check it)
+      real(dp), allocatable :: defect(:)
       !> The controller's memory before the last accepted attempt (for undo_acceptance)
       real(dp) :: undo_err_previous = 1.0_dp, undo_err_before = 1.0_dp, undo_h_previous = 0.0_dp
    contains
@@ -168,6 +175,7 @@ contains
       end if
       call sized(self%violation, merge(n, 0, allocated(options%nonnegative)))
       call sized(self%propagated, merge(n, 0, scheme%amplifies_errors))
+      call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling))
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling))
       call sized(self%u_whole, size(self%u_half))
@@ -366,6 +374,9 @@ contains
          if (outcome == attempt_rejected_constraint) return
       end if
       err = self%weighted_norm(problem, options, self%delta)
+      if (allocated(self%defect)) then
+         if (size(self%defect) > 0) err = max(err, self%weighted_norm(problem, options, self%defect)/defect_limit)
+      end if
       if (scheme%amplifies_errors) then
          ! M^(-1) P delta, which the next step's solve leaves of P delta, only when P
          ! delta itself is too large (a solve saved at most steps)
@@ -466,6 +477,12 @@ contains
          call run_scheme(scheme, self%newton, t + half, half, self%u_half, self%u_new)
          if (outcome /= attempt_accepted) return
          self%delta = self%richardson*(self%u_new - self%u_whole)
+         if (scheme%checks_defect) then
+            call problem%clear_rejection()
+            call scheme%step_error(problem, t, h, u, self%u_new, self%defect, step_stat)
+            call conclude(self%defect)
+            if (outcome /= attempt_accepted) return
+         end if
          if (options%local_extrapolation) self%u_new = self%u_new + self%delta
       end subroutine take_doubled_step
 

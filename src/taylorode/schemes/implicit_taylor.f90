@@ -19,7 +19,7 @@ module taylorode_schemes_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac, evaluate_rhs
    implicit none
    private
 
@@ -53,6 +53,15 @@ module taylorode_schemes_implicit_taylor
       type(implicit_taylor_system_type) :: system
       !> Newton's method for each member (by order), each with its own matrix
       type(newton_solver_type) :: newton(2)
+      !> F at the end of the last step whose defect was checked (F at the start of the
+      !> next step when it starts there)
+      real(dp), allocatable :: rhs_checked(:)
+      !> The state there
+      real(dp), allocatable :: u_checked(:)
+      !> The time there
+      real(dp) :: t_checked = 0.0_dp
+      !> Whether rhs_checked holds F at (t_checked, u_checked)
+      logical :: checked = .false.
    contains
       !> One step of i-t-1 or i-t-2 and, when asked, the embedded difference
       procedure :: advance => implicit_taylor_advance
@@ -60,6 +69,8 @@ module taylorode_schemes_implicit_taylor
       !> Forget the factored Newton matrix kept between steps
       procedure :: restart => implicit_taylor_restart
       procedure :: stability => implicit_taylor_stability
+      !> i-t-2: the filtered trapezoidal defect of a step
+      procedure :: step_error => implicit_taylor_step_error
    end type implicit_taylor_type
 
 contains
@@ -80,6 +91,7 @@ contains
       else
          self%name = "i-t-2"
          self%update = "U1 = U0 + h F(U1) - h^2/2 J(U1) F(U1)"
+         self%checks_defect = .true.
          self%newton_matrices = "I - h J(U1) + h^2/2 J(U1)^2"
       end if
    end function new_implicit_taylor
@@ -106,6 +118,9 @@ contains
       if (.not. self%resize(problem, n, stat)) return
       call self%newton(1)%init(n, self%structure, stat)
       call self%newton(2)%init(n, self%structure, stat, stacked=.true.)
+      if (allocated(self%rhs_checked)) deallocate (self%rhs_checked, self%u_checked)
+      allocate (self%rhs_checked(n), self%u_checked(n))
+      self%checked = .false.
       associate (system => self%system)
          if (allocated(system%u0)) deallocate (system%u0, system%rhs1, system%probe)
          allocate (system%u0(n), system%rhs1(n), system%probe(n))
@@ -118,6 +133,7 @@ contains
    subroutine implicit_taylor_restart(self)
       class(implicit_taylor_type), intent(inout) :: self
       call self%newton%forget()
+      self%checked = .false.
    end subroutine implicit_taylor_restart
 
    subroutine implicit_taylor_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
@@ -154,6 +170,33 @@ contains
          delta = delta - u1
       end if
    end subroutine implicit_taylor_advance
+
+   !> error = M^(-1) 2/3 (u1 - u0 - h/2 (F0 + F1)), M the Newton matrix of i-t-2's last
+   !> solve: 2/3 of the trapezoidal defect is i-t-2's local error, -h^3/6 U''', to
+   !> O(h^4) (the trapezoidal rule's own defect is -h^3/12 U'''). F1 is F at u1, kept for
+   !> the next step's F0; F0 is the F kept from the last check when that ended at
+   !> (t, u0), else evaluated.
+   subroutine implicit_taylor_step_error(self, problem, t, h, u0, u1, error, stat)
+      class(implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(in) :: u0(:), u1(:)
+      real(dp), contiguous, intent(out) :: error(:)
+      type(status_type), intent(inout) :: stat
+      integer :: i
+      if (self%checked) self%checked = t == self%t_checked .and. all(u0 == self%u_checked)
+      if (.not. self%checked) call evaluate_rhs(problem, t, u0, self%rhs_checked, self%counters)
+      ! F0 into error, then F1 into rhs_checked
+      error = self%rhs_checked
+      call evaluate_rhs(problem, t + h, u1, self%rhs_checked, self%counters)
+      do i = 1, size(u1)
+         error(i) = (2.0_dp/3.0_dp)*(u1(i) - u0(i) - 0.5_dp*h*(error(i) + self%rhs_checked(i)))
+      end do
+      self%t_checked = t + h
+      self%u_checked = u1
+      self%checked = .true.
+      call self%newton(2)%apply_inverse(error, self%counters, stat)
+   end subroutine implicit_taylor_step_error
 
    !> r(U) = U - U0 - h F(U) [+ h^2/2 J(U) F(U) for order 2]; keeps J(U) for the matrix.
    subroutine implicit_taylor_residual(self, problem, u, r, counters)

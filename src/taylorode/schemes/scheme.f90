@@ -74,6 +74,12 @@ module taylorode_schemes_scheme
       !> Degree of the continuous extension the scheme supplies through `dense_output`
       !> (0: none; the integrator then interpolates with the cubic Hermite interpolant)
       integer :: dense_degree = 0
+      !> Whether `step_error` also serves as a check of the steps with step doubling: the
+      !> filtered trapezoidal defect of a step that does not follow the solution (a
+      !> spurious root of a Taylor scheme's equation, a step across a fold of a slow
+      !> manifold) is of the size of the step's change, where the half steps may agree
+      !> on it (i-t-2)
+      logical :: checks_defect = .false.
       !> Whether an error of the state a step starts from reaches the new state amplified
       !> beyond what the stability function says (si-t-2: its h^2/2 J_f0 F0 evaluates the
       !> stiff g at the start explicitly); `propagated_error` says by how much
@@ -341,8 +347,9 @@ contains
       degree = 0
    end subroutine dense_output
 
-   !> Estimate of the local error U1 - u(t + h) of the step the scheme just took from
-   !> (t, u0) to u1, for schemes that declare `estimates_step_error`; the default
+   !> Estimate of the local error U1 - u(t + h) of a step from (t, u0) to u1, for
+   !> schemes that declare `estimates_step_error` (of the step just taken) or
+   !> `checks_defect` (of any step from u0 with the last Newton matrix); the default
    !> has none and says so (status_invalid_argument, code only).
    subroutine step_error(self, problem, t, h, u0, u1, error, stat)
       !> The scheme
