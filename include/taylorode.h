@@ -13,7 +13,11 @@
  * TAYLORODE_INVALID_ARGUMENT (and a message on the handle when there is one); nothing is
  * read or written through it. Names are exact C strings: "h0 " is no option, "i-t-2 "
  * no scheme. Every function that sets or integrates something leaves taylorode_message
- * "" when it succeeds and the reason when it fails.
+ * "" when it succeeds and the reason when it fails. Memory the library cannot get is
+ * TAYLORODE_OUT_OF_MEMORY, with a message naming the array and its bytes:
+ * taylorode_create allocates nothing that grows with n (a huge n fails in taylorode_init
+ * or taylorode_integrate, the state left as it was), taylorode_set_bandwidths and
+ * taylorode_set_tolerance_vectors leave the settings as they were.
  *
  * Callbacks return
  * 0 on success, > 0 when they cannot evaluate at the point given (the step is
@@ -41,7 +45,9 @@ enum {
   TAYLORODE_MAX_STEPS = 8,
   TAYLORODE_UNKNOWN_SCHEME = 9,
   TAYLORODE_EVALUATION_FAILED = 10,
-  TAYLORODE_OUTPUT_ERROR = 11
+  TAYLORODE_OUTPUT_ERROR = 11,
+  TAYLORODE_OUT_OF_MEMORY = 12 /* an array the integration needs could not be allocated (the message
+                                  says which and how many bytes): the Newton matrices of a large n */
 };
 
 /* An integrator for one scheme and one problem size (opaque) */

@@ -24,7 +24,7 @@ module taylorode
    use taylorode_base_status, only: status_type, status_name, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged, status_step_underflow, status_max_steps, status_unknown_scheme, &
-      status_evaluation_failed, status_output_error, status_description
+      status_evaluation_failed, status_output_error, status_out_of_memory, status_description
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, band_structure
    use taylorode_problem_ode, only: ode_problem, ode_problem_fd, reduce_sum, reduce_max
@@ -52,7 +52,7 @@ module taylorode
    public :: status_type, status_name, status_ok, status_invalid_argument, status_size_mismatch, &
       status_nonfinite, status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
       status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
-      status_output_error, status_description
+      status_output_error, status_out_of_memory, status_description
    public :: ode_problem, ode_problem_fd, matrix_structure_type, dense_structure, band_structure
    public :: reduce_sum, reduce_max
    public :: scheme_type, counters_type, new_scheme, scheme_names, scheme_count

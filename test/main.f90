@@ -10,6 +10,7 @@ program tester
    use test_base, only: collect_base
    use test_features, only: collect_features
    use test_integrator, only: collect_integrator
+   use test_memory, only: collect_memory
    use test_interfaces, only: collect_interfaces
    use test_problems, only: collect_problems
    use test_reference, only: collect_reference
@@ -33,6 +34,7 @@ program tester
       new_testsuite("interfaces", collect_interfaces), &
       new_testsuite("app", collect_app), &
       new_testsuite("robustness", collect_robustness), &
+      new_testsuite("memory", collect_memory), &
       new_testsuite("scale", collect_scale), &
       new_testsuite("accuracy", collect_accuracy) &
       ]

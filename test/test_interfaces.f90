@@ -13,7 +13,7 @@ module test_interfaces
    use taylorode, only: dp, scheme_type, new_scheme, integrate, integrator_options_type, integration_stats_type, &
       status_type, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_singular_matrix, status_newton_diverged, status_newton_not_converged, status_step_underflow, &
-      status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error
+      status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error, status_out_of_memory
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol
    use taylorode_base_strings, only: format_real, format_integer
    use taylorode_interfaces_legacy, only: legacy_solve, legacy_interpolate
@@ -102,14 +102,15 @@ contains
    subroutine test_header_codes(error)
       type(error_type), allocatable, intent(out) :: error
       type(line_type), allocatable :: header(:)
-      character(len=*), parameter :: names(12) = [character(len=30) :: "TAYLORODE_OK", &
+      character(len=*), parameter :: names(13) = [character(len=30) :: "TAYLORODE_OK", &
          "TAYLORODE_INVALID_ARGUMENT", "TAYLORODE_SIZE_MISMATCH", "TAYLORODE_NONFINITE", &
          "TAYLORODE_SINGULAR_MATRIX", "TAYLORODE_NEWTON_DIVERGED", "TAYLORODE_NEWTON_NOT_CONVERGED", &
          "TAYLORODE_STEP_UNDERFLOW", "TAYLORODE_MAX_STEPS", "TAYLORODE_UNKNOWN_SCHEME", &
-         "TAYLORODE_EVALUATION_FAILED", "TAYLORODE_OUTPUT_ERROR"]
-      integer, parameter :: codes(12) = [status_ok, status_invalid_argument, status_size_mismatch, &
+         "TAYLORODE_EVALUATION_FAILED", "TAYLORODE_OUTPUT_ERROR", "TAYLORODE_OUT_OF_MEMORY"]
+      integer, parameter :: codes(13) = [status_ok, status_invalid_argument, status_size_mismatch, &
          status_nonfinite, status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
-         status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error]
+         status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error, &
+         status_out_of_memory]
       real(dp) :: value(1)
       logical :: found
       integer :: k

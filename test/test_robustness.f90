@@ -3,7 +3,8 @@
 module test_robustness
    use testdrive, only: new_unittest, unittest_type, error_type, check, skip_test
    use test_support, only: differenced_brusselator, scratch, run_type, run_app, run_command, read_lines, line_type, has_line, &
-      file_exists, fresh_scratch, app_path, stat_message
+      file_exists, fresh_scratch, app_path, stat_message, c_create, c_free, c_set_option, c_set_bandwidths, message_of, &
+      legacy_no_jacobian
    use taylorode, only: dp, i8, ode_problem, ode_problem_fd, scheme_type, new_scheme, integrate, status_type, &
       integrator_options_type, integration_stats_type, step_history_type, write_history_csv, status_ok, &
       status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
@@ -65,37 +66,6 @@ module test_robustness
       procedure :: g => coupled_g
       procedure :: jacobian_structure => declared_structure
    end type declared_band_type
-
-   interface
-      !> The C interface, called as C would (include/taylorode.h)
-      function c_create(scheme, n, status) result(handle) bind(c, name="taylorode_create")
-         import :: c_ptr, c_char, c_int
-         character(kind=c_char), intent(in) :: scheme(*)
-         integer(c_int), value :: n
-         integer(c_int), intent(out) :: status
-         type(c_ptr) :: handle
-      end function c_create
-      subroutine c_free(handle) bind(c, name="taylorode_free")
-         import :: c_ptr
-         type(c_ptr), value :: handle
-      end subroutine c_free
-      integer(c_int) function c_set_option(handle, name, value) bind(c, name="taylorode_set_option")
-         import :: c_ptr, c_char, c_int, c_double
-         type(c_ptr), value :: handle
-         character(kind=c_char), intent(in) :: name(*)
-         real(c_double), value :: value
-      end function c_set_option
-      integer(c_int) function c_set_bandwidths(handle, lower, upper) bind(c, name="taylorode_set_bandwidths")
-         import :: c_ptr, c_int
-         type(c_ptr), value :: handle
-         integer(c_int), value :: lower, upper
-      end function c_set_bandwidths
-      function c_message(handle) result(text) bind(c, name="taylorode_message")
-         import :: c_ptr
-         type(c_ptr), value :: handle
-         type(c_ptr) :: text
-      end function c_message
-   end interface
 
    !> Van der Pol without Jacobians (forward differences), mu = 10
    type, extends(ode_problem_fd) :: vdp_differences_type
@@ -1090,20 +1060,6 @@ contains
       end subroutine expect_invalid
    end subroutine test_c_options_checked
 
-   !> The text taylorode_message returns.
-   function message_of(ode) result(text)
-      type(c_ptr), intent(in) :: ode
-      character(len=:), allocatable :: text
-      character(kind=c_char), pointer :: chars(:)
-      integer :: k
-      call c_f_pointer(c_message(ode), chars, [512])
-      text = ""
-      do k = 1, size(chars)
-         if (chars(k) == c_null_char) exit
-         text = text//chars(k)
-      end do
-   end function message_of
-
    !> TAYLORODE with a band (MLJAC < N) needs both bandwidths in [0, N - 1]: IDID = -1
    !> for a huge MUJAC or a negative MLJAC (no allocation of the band, no crash).
    subroutine test_legacy_bandwidths_checked(error)
@@ -1137,14 +1093,6 @@ contains
       f(1) = y(2)
       f(2) = 10.0_dp*(1.0_dp - y(1)**2)*y(2) - y(1)
    end subroutine legacy_vdp
-
-   !> A JAC that is never called (IJAC = 0).
-   subroutine legacy_no_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
-      integer :: n, ldfy
-      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
-      integer :: ipar(*)
-      dfy = 0.0_dp
-   end subroutine legacy_no_jacobian
 
    !> A SOLOUT that is never called (IOUT = 0).
    subroutine legacy_no_output(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)

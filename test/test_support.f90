@@ -1,14 +1,17 @@
-!> Helpers shared by the test suites: an independent reference solver and
-!> message formatting.
+!> Helpers shared by the test suites: an independent reference solver, message
+!> formatting, and the C and legacy interfaces as their callers see them.
 module test_support
    use taylorode, only: dp, ode_problem, status_type, matrix_structure_type
    use taylorode_testset, only: brusselator_type
+   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_ptr, c_funptr, c_null_char, c_f_pointer
    implicit none
    private
 
    public :: rk4_reference, stat_message, differenced_brusselator
    public :: scratch, line_type, run_type, run_app, read_lines, has_line, count_separators, file_exists, &
       fresh_scratch, app_path, run_command
+   public :: c_create, c_free, c_set_option, c_set_functions, c_set_bandwidths, c_set_tolerance_vectors, c_integrate, &
+      c_message, message_of, legacy_no_jacobian
 
    !> The Brusselator with bandwidths but no analytic band Jacobians: the band
    !> Jacobians come from the library's grouped finite differences
@@ -21,6 +24,55 @@ module test_support
       procedure :: jac_g => differenced_jac_g
       procedure :: jacobian_structure => differenced_structure
    end type differenced_brusselator
+
+   interface
+      !> The C interface, called as C would (include/taylorode.h)
+      function c_create(scheme, n, status) result(handle) bind(c, name="taylorode_create")
+         import :: c_ptr, c_char, c_int
+         character(kind=c_char), intent(in) :: scheme(*)
+         integer(c_int), value :: n
+         integer(c_int), intent(out) :: status
+         type(c_ptr) :: handle
+      end function c_create
+      subroutine c_free(handle) bind(c, name="taylorode_free")
+         import :: c_ptr
+         type(c_ptr), value :: handle
+      end subroutine c_free
+      integer(c_int) function c_set_option(handle, name, value) bind(c, name="taylorode_set_option")
+         import :: c_ptr, c_char, c_int, c_double
+         type(c_ptr), value :: handle
+         character(kind=c_char), intent(in) :: name(*)
+         real(c_double), value :: value
+      end function c_set_option
+      integer(c_int) function c_set_bandwidths(handle, lower, upper) bind(c, name="taylorode_set_bandwidths")
+         import :: c_ptr, c_int
+         type(c_ptr), value :: handle
+         integer(c_int), value :: lower, upper
+      end function c_set_bandwidths
+      integer(c_int) function c_set_functions(handle, f, g, jac_f, jac_g, user_data) &
+         bind(c, name="taylorode_set_functions")
+         import :: c_ptr, c_funptr, c_int
+         type(c_ptr), value :: handle, user_data
+         type(c_funptr), value :: f, g, jac_f, jac_g
+      end function c_set_functions
+      integer(c_int) function c_set_tolerance_vectors(handle, rtol, atol) &
+         bind(c, name="taylorode_set_tolerance_vectors")
+         import :: c_ptr, c_int, c_double
+         type(c_ptr), value :: handle
+         real(c_double), intent(in) :: rtol(*), atol(*)
+      end function c_set_tolerance_vectors
+      integer(c_int) function c_integrate(handle, t0, t_end, u) bind(c, name="taylorode_integrate")
+         import :: c_ptr, c_int, c_double
+         type(c_ptr), value :: handle
+         real(c_double), value :: t0, t_end
+         real(c_double), intent(inout) :: u(*)
+      end function c_integrate
+      function c_message(handle) result(text) bind(c, name="taylorode_message")
+         import :: c_ptr
+         type(c_ptr), value :: handle
+         type(c_ptr) :: text
+      end function c_message
+   end interface
 
    !> Scratch directory of the tests that run programs and write files (inside the build tree)
    character(len=*), parameter :: scratch = "build/test-app"
@@ -199,6 +251,28 @@ contains
       type(matrix_structure_type) :: structure
       structure = self%model%jacobian_structure(n)
    end function differenced_structure
+
+   !> The text taylorode_message returns.
+   function message_of(ode) result(text)
+      type(c_ptr), intent(in) :: ode
+      character(len=:), allocatable :: text
+      character(kind=c_char), pointer :: chars(:)
+      integer :: k
+      call c_f_pointer(c_message(ode), chars, [512])
+      text = ""
+      do k = 1, size(chars)
+         if (chars(k) == c_null_char) exit
+         text = text//chars(k)
+      end do
+   end function message_of
+
+   !> A JAC that is never called (IJAC = 0).
+   subroutine legacy_no_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy = 0.0_dp
+   end subroutine legacy_no_jacobian
 
    !> The status message, or "ok".
    function stat_message(stat) result(message)

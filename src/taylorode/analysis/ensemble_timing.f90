@@ -6,6 +6,7 @@ module taylorode_analysis_ensemble_timing
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
@@ -40,8 +41,8 @@ contains
    !> Integrate the ensemble (see integrate_ensemble) `repeats` times on one thread and
    !> as often on `threads` (0: as many as OpenMP gives), alternating, each run from
    !> fresh copies of the problems and of u0; wall-clock medians and the comparison
-   !> go into `timing`. stat reports arguments that do not fit (a failed member is a
-   !> result, counted in timing%failed_members).
+   !> go into `timing`. stat reports arguments that do not fit and copies that cannot
+   !> be allocated (a failed member is a result, counted in timing%failed_members).
    subroutine time_ensemble(problems, scheme_name, t0, t_end, u0, options, threads, repeats, timing, stat)
       !> One problem per member, copied before every run
       class(ode_problem), intent(in) :: problems(:)
@@ -90,7 +91,9 @@ contains
       timing%identical = .true.
       do run = 1, repeats
          call timed(1, u_serial, stats_serial, member_serial, serial_seconds(run))
+         if (stat%code /= status_ok) return
          call timed(timing%threads, u_threaded, stats_threaded, member_threaded, threaded_seconds(run))
+         if (stat%code /= status_ok) return
          do k = 1, size(problems)
             timing%identical = timing%identical .and. &
                all(transfer(u_threaded(:, k), 0_i8, size(u0, 1)) == transfer(u_serial(:, k), 0_i8, size(u0, 1))) .and. &
@@ -115,8 +118,15 @@ contains
          type(status_type), intent(inout) :: member_stat(:)
          real(dp), intent(out) :: seconds
          integer(i8) :: start, finish, rate
+         integer :: memory
+         seconds = 0.0_dp
          if (allocated(copies)) deallocate (copies)
-         allocate (copies, source=problems)
+         allocate (copies, source=problems, stat=memory)
+         if (memory == 0 .and. .not. allocated(u)) allocate (u(size(u0, 1), size(u0, 2)), stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "the members' copies and states", [size(u0, 1), size(u0, 2)], real_bytes)
+            return
+         end if
          u = u0
          call system_clock(start, rate)
          call integrate_ensemble(copies, scheme_name, t0, t_end, u, options, stats, member_stat, ensemble_stat, &

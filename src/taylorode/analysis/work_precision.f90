@@ -5,6 +5,7 @@ module taylorode_analysis_work_precision
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, status_ok
    use taylorode_base_strings, only: fixed_length_real
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_integrate_options, only: integrator_options_type
@@ -99,9 +100,16 @@ contains
       real(dp), intent(in), optional :: t_out(:)
       class(scheme_type), allocatable :: scheme
       real(dp) :: times(max(repeats, 1))
-      integer :: k
+      integer :: k, memory, outputs
 
-      if (present(t_out)) allocate (run%u_out(size(u0), size(t_out)))
+      outputs = 0
+      if (present(t_out)) outputs = size(t_out)
+      allocate (run%u(size(u0)), stat=memory)
+      if (present(t_out) .and. memory == 0) allocate (run%u_out(size(u0), outputs), stat=memory)
+      if (memory /= 0) then
+         call out_of_memory(run%stat, "the run's state and dense output", [size(u0), 1 + outputs], real_bytes)
+         return
+      end if
       do k = 1, max(repeats, 1)
          call new_scheme(scheme_name, scheme, run%stat)
          if (run%stat%code /= status_ok) return

@@ -15,6 +15,7 @@ module taylorode_base_files
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_int8_t, c_int16_t, c_size_t, &
       c_ptr, c_long, c_f_pointer
    use taylorode_base_status, only: status_type, set_status, status_output_error, status_invalid_argument
+   use taylorode_base_memory, only: out_of_memory
    implicit none
    private
 
@@ -241,13 +242,19 @@ contains
       !> status_output_error when it cannot be opened
       type(status_type), intent(inout) :: stat
       character(len=32) :: suffix
-      integer :: attempt
+      integer :: attempt, memory
       self%path = path
       self%io_error = 0
       self%used = 0
       self%descriptor = -1_c_int
-      if (.not. allocated(self%buffer)) allocate (character(len=buffer_size) :: self%buffer)
       self%in_place = .false.
+      if (.not. allocated(self%buffer)) then
+         allocate (character(len=buffer_size) :: self%buffer, stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "a file's write buffer", [buffer_size], 1)
+            return
+         end if
+      end if
       if (len(path) == 0) then
          call set_status(stat, status_invalid_argument, "an empty file name")
          return

@@ -11,7 +11,7 @@ module taylorode_base_status
    public :: status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_singular_matrix, status_newton_diverged, status_newton_not_converged, &
       status_step_underflow, status_max_steps, status_unknown_scheme, status_evaluation_failed, &
-      status_output_error, status_description
+      status_output_error, status_out_of_memory, status_description
 
    !> Success
    integer, parameter :: status_ok = 0
@@ -38,6 +38,9 @@ module taylorode_base_status
    integer, parameter :: status_evaluation_failed = 10
    !> A file could not be written completely (nothing partial is left behind)
    integer, parameter :: status_output_error = 11
+   !> Memory for an array the computation needs could not be allocated (the message says
+   !> which and how many bytes); the highest code, so that it prevails when processes agree
+   integer, parameter :: status_out_of_memory = 12
 
    !> Outcome of a library call: `code == status_ok` means success
    type :: status_type
@@ -60,7 +63,9 @@ contains
       ok = self%code == status_ok
    end function status_is_ok
 
-   !> Record a failure (or success, with `status_ok`) and its message.
+   !> Record a failure (or success, with `status_ok`) and its message. Should even the
+   !> message's few bytes not be available, the code is recorded without it
+   !> (`status_description` says what it means).
    pure subroutine set_status(stat, code, message)
       !> Status to overwrite
       type(status_type), intent(inout) :: stat
@@ -68,8 +73,12 @@ contains
       integer, intent(in) :: code
       !> Explanation for the caller
       character(len=*), intent(in) :: message
+      character(len=:), allocatable :: text
+      integer :: memory
+      allocate (character(len=len(message)) :: text, stat=memory)
+      if (memory == 0) text(:) = message
       stat%code = code
-      stat%message = message
+      call move_alloc(text, stat%message)
    end subroutine set_status
 
    !> Record an outcome by its code alone, without building a message: what a step
@@ -91,7 +100,7 @@ contains
       !> Who reports it, e.g. "take_step"
       character(len=*), intent(in) :: prefix
       if (stat%code == status_ok .or. allocated(stat%message)) return
-      stat%message = prefix//": "//trim(status_description(stat%code))
+      call set_status(stat, stat%code, prefix//": "//trim(status_description(stat%code)))
    end subroutine describe
 
    !> Short name of a status code, for tables and logs.
@@ -112,6 +121,7 @@ contains
       case (status_unknown_scheme); name = "unknown scheme"
       case (status_evaluation_failed); name = "evaluation failed"
       case (status_output_error); name = "output error"
+      case (status_out_of_memory); name = "out of memory"
       case default; name = "unknown status"
       end select
    end function status_name
@@ -135,6 +145,7 @@ contains
       case (status_unknown_scheme); text = "unknown scheme name"
       case (status_evaluation_failed); text = "the problem could not evaluate f, g or a Jacobian"
       case (status_output_error); text = "a file could not be written"
+      case (status_out_of_memory); text = "memory could not be allocated"
       case default; text = "unknown status"
       end select
    end function status_description

@@ -7,7 +7,8 @@
 !> callbacks do.
 module taylorode_integrate_events
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_invalid_argument, status_nonfinite
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, status_nonfinite
+   use taylorode_base_memory, only: sized, out_of_memory, real_bytes
    use taylorode_integrate_step, only: accepted_step_type
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
@@ -112,16 +113,18 @@ contains
          return
       end if
       if (allocated(self%values_start)) then
-         if (size(self%values_start) /= self%count .or. size(self%u_probe) /= size(u)) then
-            deallocate (self%values_start, self%values_end, self%values_probe, self%u_probe, self%crossing_t, &
+         if (size(self%values_start) /= self%count) then
+            deallocate (self%values_start, self%values_end, self%values_probe, self%crossing_t, &
                self%crossed, self%theta_start)
          end if
       end if
+      ! one value per event function: a few bytes each
       if (.not. allocated(self%values_start)) then
          allocate (self%values_start(self%count), self%values_end(self%count), self%values_probe(self%count), &
-            self%u_probe(size(u)), self%crossing_t(self%count), self%crossed(self%count), &
-            self%theta_start(self%count))
+            self%crossing_t(self%count), self%crossed(self%count), self%theta_start(self%count))
       end if
+      call sized(self%u_probe, size(u), "the events' probe state", stat)
+      if (stat%code /= status_ok) return
       previous_stop = self%stopped_by
       self%stopped_by = 0
       if (self%count == 0) return
@@ -197,7 +200,8 @@ contains
          end do
          self%stopped_by = first
       end if
-      call record_in_time_order(self, step)
+      call record_in_time_order(self, step, stat)
+      if (stat%code /= status_ok) return
       if (stop) then
          call step%interpolate(t_stop, u_stop)
       else
@@ -285,9 +289,10 @@ contains
    end function locate
 
    !> Append the crossings marked in `crossed` in the order of their times.
-   subroutine record_in_time_order(self, step)
+   subroutine record_in_time_order(self, step, stat)
       class(event_functions_type), intent(inout) :: self
       type(accepted_step_type), intent(in) :: step
+      type(status_type), intent(inout) :: stat
       integer :: i, next
       real(dp) :: earliest
       do
@@ -301,27 +306,39 @@ contains
          end do
          if (next == 0) exit
          self%crossed(next) = .false.
-         call append(self, next, earliest, step)
+         call append(self, next, earliest, step, stat)
+         if (stat%code /= status_ok) return
       end do
    end subroutine record_in_time_order
 
    !> Record one crossing (storage grows geometrically; allocation happens only when
-   !> events are found).
-   subroutine append(self, index, t, step)
+   !> events are found). status_out_of_memory, with what was found kept, when the
+   !> storage cannot grow.
+   subroutine append(self, index, t, step, stat)
       class(event_functions_type), intent(inout) :: self
       integer, intent(in) :: index
       real(dp), intent(in) :: t
       type(accepted_step_type), intent(in) :: step
+      type(status_type), intent(inout) :: stat
       integer, allocatable :: index_buffer(:)
       real(dp), allocatable :: t_buffer(:), u_buffer(:, :)
-      integer :: capacity, n
+      integer :: capacity, n, memory
       n = size(step%u_end)
+      capacity = 0
       if (.not. allocated(self%found_t)) then
-         allocate (self%found_index(16), self%found_t(16), self%found_u(n, 16))
+         capacity = 16
       else if (self%found == size(self%found_t) .or. size(self%found_u, 1) /= n) then
          capacity = max(16, 2*size(self%found_t))
-         allocate (index_buffer(capacity), t_buffer(capacity), u_buffer(n, capacity))
-         if (size(self%found_u, 1) == n) then
+      end if
+      if (capacity > 0) then
+         allocate (index_buffer(capacity), t_buffer(capacity), u_buffer(n, capacity), stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "the events found", [n + 2, capacity], real_bytes)
+            return
+         end if
+         if (.not. allocated(self%found_t)) then
+            self%found = 0
+         else if (size(self%found_u, 1) == n) then
             index_buffer(:self%found) = self%found_index(:self%found)
             t_buffer(:self%found) = self%found_t(:self%found)
             u_buffer(:, :self%found) = self%found_u(:, :self%found)

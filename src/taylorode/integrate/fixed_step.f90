@@ -2,8 +2,9 @@
 module taylorode_integrate_fixed_step
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_status, set_code, status_description, status_ok, &
-      status_invalid_argument, status_nonfinite, status_evaluation_failed
+      status_invalid_argument, status_nonfinite, status_evaluation_failed, status_out_of_memory
    use taylorode_base_strings, only: fixed_length_real
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, default_newton_settings
@@ -53,24 +54,38 @@ contains
          return
       end if
       h = (t_end - t0)/real(n_steps, dp)
-      allocate (u_new(size(u)))
+      allocate (u_new(size(u)), stat=i)
+      if (i /= 0) then
+         call out_of_memory(stat, "integrate_fixed's new state", [size(u)], real_bytes)
+         return
+      end if
       call scheme%take_step(problem, t, h, u, u_new, stat)   ! checks the arguments and restarts the scheme
       if (stat%code /= status_ok) return
       u = u_new
       do i = 2, n_steps
          t = t0 + real(i - 1, dp)*h
-         call default_newton_settings(u, newton)
+         call default_newton_settings(u, newton, stat)
+         if (stat%code /= status_ok) then
+            if (present(t_reached)) t_reached = t
+            return
+         end if
          call problem%clear_rejection()
          call scheme%advance(problem, t, h, u, u_new, newton, stat)
          if (problem%evaluation_rejected()) then
             call set_code(stat, status_evaluation_failed)
+            call problem%memory_failure(stat)
          else if (stat%code == status_ok .and. .not. all(ieee_is_finite(u_new))) then
             call set_code(stat, status_nonfinite)
          end if
          if (stat%code /= status_ok) then
             write (where, '(a, ": ", a, " (step from t = ", a, ")")') "integrate_fixed", &
                trim(status_description(stat%code)), trim(fixed_length_real(t, 17))
-            stat%message = trim(where)
+            if (stat%code == status_out_of_memory .and. allocated(stat%message)) then
+               ! the message says what could not be allocated
+               call set_status(stat, stat%code, trim(where)//": "//stat%message)
+            else
+               call set_status(stat, stat%code, trim(where))
+            end if
             if (present(t_reached)) t_reached = t
             return
          end if

@@ -4,7 +4,8 @@
 module taylorode_integrate_history
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
-      status_output_error
+      status_output_error, status_out_of_memory
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_base_files, only: text_file_type
    implicit none
    private
@@ -65,6 +66,9 @@ module taylorode_integrate_history
       real(dp), allocatable :: states(:, :)
       !> Number of state columns of the current integration
       integer :: state_columns = 0
+      !> Why the storage in memory could not grow ("" while it could; the attempts after
+      !> it are not kept)
+      character(len=200), private :: memory_failure = ""
       !> The CSV file rows are streamed to (see stream_to)
       type(text_file_type), private :: stream
       !> Whether rows go to the stream instead of memory, and whether its header is out
@@ -80,6 +84,8 @@ module taylorode_integrate_history
       procedure :: finish
       !> Whether writing the stream failed
       procedure :: failed
+      !> status_out_of_memory when the storage in memory could not grow
+      procedure :: check_memory
       !> A stream never finished is removed (its temporary file)
       final :: drop_unfinished_stream
    end type step_history_type
@@ -135,7 +141,12 @@ contains
       self%count = 0
       self%dropped = 0
       self%state_columns = state_columns
-      if (allocated(self%t)) deallocate (self%t, self%h, self%err, self%outcome, self%newton_iterations)
+      self%memory_failure = ""
+      if (allocated(self%t)) deallocate (self%t)
+      if (allocated(self%h)) deallocate (self%h)
+      if (allocated(self%err)) deallocate (self%err)
+      if (allocated(self%outcome)) deallocate (self%outcome)
+      if (allocated(self%newton_iterations)) deallocate (self%newton_iterations)
       if (allocated(self%states)) deallocate (self%states)
    end subroutine start
 
@@ -181,8 +192,16 @@ contains
          self%dropped = self%dropped + 1
          return
       end if
-      if (.not. allocated(self%t)) call grow(self, 1024)
-      if (self%count > size(self%t)) call grow(self, 2*size(self%t))
+      if (.not. allocated(self%t)) then
+         call grow(self, 1024)
+      else if (self%count > size(self%t)) then
+         call grow(self, 2*size(self%t))
+      end if
+      if (len_trim(self%memory_failure) > 0) then
+         ! the storage could not grow: this attempt is not kept (the integration stops)
+         self%count = self%count - 1
+         return
+      end if
       self%t(self%count) = t
       self%h(self%count) = h
       self%err(self%count) = err
@@ -191,34 +210,41 @@ contains
       if (self%state_columns > 0) self%states(:, self%count) = state(:self%state_columns)
    end subroutine record
 
-   !> Resize the storage to `capacity` attempts (at most self%capacity), keeping what is recorded.
+   !> Resize the storage to `capacity` attempts (at most self%capacity), keeping what is
+   !> recorded; the storage stays as it was when the new one cannot be allocated
+   !> (self%memory says so).
    subroutine grow(self, capacity)
       class(step_history_type), intent(inout) :: self
       integer, intent(in) :: capacity
-      real(dp), allocatable :: real_buffer(:), state_buffer(:, :)
-      integer, allocatable :: integer_buffer(:)
-      integer :: n, new_size
+      real(dp), allocatable :: t_buffer(:), h_buffer(:), err_buffer(:), state_buffer(:, :)
+      integer, allocatable :: outcome_buffer(:), iterations_buffer(:)
+      integer :: n, new_size, memory
+      type(status_type) :: stat
 
       n = self%count - 1
       new_size = capacity
       if (self%capacity > 0) new_size = min(new_size, self%capacity)
-      allocate (real_buffer(new_size))
-      if (n > 0) real_buffer(:n) = self%t(:n)
-      call move_alloc(real_buffer, self%t)
-      allocate (real_buffer(new_size))
-      if (n > 0) real_buffer(:n) = self%h(:n)
-      call move_alloc(real_buffer, self%h)
-      allocate (real_buffer(new_size))
-      if (n > 0) real_buffer(:n) = self%err(:n)
-      call move_alloc(real_buffer, self%err)
-      allocate (integer_buffer(new_size))
-      if (n > 0) integer_buffer(:n) = self%outcome(:n)
-      call move_alloc(integer_buffer, self%outcome)
-      allocate (integer_buffer(new_size))
-      if (n > 0) integer_buffer(:n) = self%newton_iterations(:n)
-      call move_alloc(integer_buffer, self%newton_iterations)
+      allocate (t_buffer(new_size), h_buffer(new_size), err_buffer(new_size), outcome_buffer(new_size), &
+         iterations_buffer(new_size), state_buffer(self%state_columns, merge(new_size, 0, self%state_columns > 0)), &
+         stat=memory)
+      if (memory /= 0) then
+         call out_of_memory(stat, "the step history", [new_size, 5 + self%state_columns], real_bytes)
+         self%memory_failure = stat%message
+         return
+      end if
+      if (n > 0) then
+         t_buffer(:n) = self%t(:n)
+         h_buffer(:n) = self%h(:n)
+         err_buffer(:n) = self%err(:n)
+         outcome_buffer(:n) = self%outcome(:n)
+         iterations_buffer(:n) = self%newton_iterations(:n)
+      end if
+      call move_alloc(t_buffer, self%t)
+      call move_alloc(h_buffer, self%h)
+      call move_alloc(err_buffer, self%err)
+      call move_alloc(outcome_buffer, self%outcome)
+      call move_alloc(iterations_buffer, self%newton_iterations)
       if (self%state_columns > 0) then
-         allocate (state_buffer(self%state_columns, new_size))
          if (n > 0) state_buffer(:, :n) = self%states(:, :n)
          call move_alloc(state_buffer, self%states)
       end if
@@ -290,6 +316,16 @@ contains
       if (self%streaming) call self%stream%discard()
       self%streaming = .false.
    end subroutine drop_unfinished_stream
+
+   !> stat = status_out_of_memory, with its message, when the storage in memory could not
+   !> grow (the integration should stop); else stat is left as it is.
+   subroutine check_memory(self, stat)
+      !> The history
+      class(step_history_type), intent(in) :: self
+      !> Set to the failure, if there was one
+      type(status_type), intent(inout) :: stat
+      if (len_trim(self%memory_failure) > 0) call set_status(stat, status_out_of_memory, trim(self%memory_failure))
+   end subroutine check_memory
 
    !> Whether a write to the stream has failed (the integration should stop).
    logical function failed(self)

@@ -8,12 +8,13 @@ module taylorode_integrate_integrator
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
-      status_output_error, status_description
+      status_output_error, status_out_of_memory, status_description
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
    use taylorode_base_strings, only: fixed_length_real
    use taylorode_problem_ode, only: ode_problem
    use taylorode_schemes_scheme, only: scheme_type, evaluate_rhs
-   use taylorode_integrate_options, only: integrator_options_type, validate_options, estimate_defect
+   use taylorode_integrate_options, only: integrator_options_type, validate_options, estimate_defect, copy_options
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_stepper, only: stepper_type
    use taylorode_integrate_reduction, only: agree_on_outcome, finite_everywhere
@@ -239,10 +240,12 @@ contains
       end if
       call scheme%prepare(problem, self%n, stat)
       if (stat%code /= status_ok) return
-      self%options = options
+      call copy_options(options, self%options, stat)
+      if (stat%code /= status_ok) return
       self%scheme_name = scheme%name
       call scheme%restart()
-      call self%stepper%start(self%n, scheme, options)
+      call self%stepper%start(self%n, scheme, options, stat)
+      if (stat%code /= status_ok) return
 
       self%h = options%h0
       if (self%h == 0.0_dp) then
@@ -311,6 +314,7 @@ contains
       if (problem%evaluation_rejected()) then
          call set_status(stat, status_evaluation_failed, "integrate: the problem cannot evaluate f or g at the "// &
             "initial state")
+         call problem%memory_failure(stat)
       else if (.not. all(ieee_is_finite(rhs))) then
          call set_status(stat, status_nonfinite, "integrate: f or g is NaN or Inf at the initial state")
       end if
@@ -376,9 +380,10 @@ contains
       ! no dense output of its own and no step before it)
       rhs_pending = scheme%dense_degree > 0 .or. scheme%implicit
       if (stat%code == status_ok .and. need_step) then
-         call self%step%reserve(self%n, scheme%dense_degree)
-         if (.not. rhs_pending) call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
-         call start_ring()
+         call self%step%reserve(self%n, scheme%dense_degree, stat)
+         if (stat%code == status_ok .and. .not. rhs_pending) &
+            call evaluate_start(self, problem, scheme, t, u, self%step%rhs_end, stat)
+         if (stat%code == status_ok) call start_ring()
       end if
       if (stat%code == status_ok .and. present(events)) call events%start(t, u, stat)
       if (stat%code /= status_ok) then
@@ -425,6 +430,18 @@ contains
                outcome = attempt_rejected_output
                h_next = t_out(next_output) - t
             end if
+         end if
+         if (step_stat%code == status_out_of_memory) then
+            ! a work array made during the step (a second factorization, a problem's work
+            ! array): retrying cannot help
+            write (text, '("integrate: at t = ", a, ":")') trim(fixed_length_real(t, 7))
+            if (allocated(step_stat%message)) then
+               call set_status(stat, status_out_of_memory, trim(text)//" "//step_stat%message)
+            else
+               call set_status(stat, status_out_of_memory, trim(text)//" "// &
+                  trim(status_description(status_out_of_memory)))
+            end if
+            exit
          end if
          select case (outcome)
          case (attempt_accepted)
@@ -512,6 +529,8 @@ contains
                call set_status(stat, status_output_error, "integrate: the step history could not be written")
                exit
             end if
+            call history%check_memory(stat)
+            if (stat%code /= status_ok) exit
          end if
       end do
       self%t = t
@@ -675,11 +694,17 @@ contains
       !> Start the ring of states at the current one, unless it continues the ring
       !> (the state the last call ended in, unchanged by the caller).
       subroutine start_ring()
+         integer :: memory
          if (allocated(self%ring_u)) then
             if (size(self%ring_u, 1) /= self%n) deallocate (self%ring_u)
          end if
          if (.not. allocated(self%ring_u)) then
-            allocate (self%ring_u(self%n, ring_size))
+            allocate (self%ring_u(self%n, ring_size), stat=memory)
+            if (memory /= 0) then
+               call out_of_memory(stat, "the last states of the solution (dense output)", [self%n, ring_size], &
+                  real_bytes)
+               return
+            end if
             self%ring_count = 0
          end if
          if (self%ring_count > 0) then

@@ -3,13 +3,15 @@ module taylorode_integrate_options
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid, default_kappa, &
       controller_predictive, controller_auto
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
-   public :: integrator_options_type, paper_options, validate_options, error_weight_type
+   public :: integrator_options_type, scalar_options_type, copy_options, paper_options, validate_options, &
+      error_weight_type
    public :: norm_max, norm_rms, advance_scheme, advance_high, advance_low
    public :: estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
 
@@ -67,19 +69,14 @@ module taylorode_integrate_options
       end subroutine error_weight_interface
    end interface
 
-   !> Settings of `integrate`. Weights: w_i = atol_i + rtol_i * max(|U_i^n|, |U_i^{n+1}|)
-   !> (|U_i^n| alone for radau5, as RADAU5; or your own `error_weights`).
-   type :: integrator_options_type
+   !> The settings of `integrate` that are single values: every one but the
+   !> per-component settings of integrator_options_type, which extends it (so that a
+   !> copy of these is one assignment that allocates nothing).
+   type :: scalar_options_type
       !> Relative tolerance (>= 0)
       real(dp) :: rtol = 1.0e-6_dp
       !> Absolute tolerance for every component (>= 0; rtol and atol not both 0)
       real(dp) :: atol = 1.0e-6_dp
-      !> Relative tolerance per component (RADAU5's ITOL = 1); when allocated it replaces `rtol`
-      real(dp), allocatable :: rtol_vector(:)
-      !> Absolute tolerance per component; when allocated it replaces `atol`
-      real(dp), allocatable :: atol_vector(:)
-      !> Weights of your own; when allocated they replace rtol and atol
-      class(error_weight_type), allocatable :: error_weights
       !> norm_max or norm_rms
       integer :: norm = norm_max
       !> controller_i, controller_pi, controller_pid, controller_predictive, or
@@ -141,6 +138,18 @@ module taylorode_integrate_options
       integer :: advance = advance_scheme
       !> With a step history: also record the state after every attempt
       logical :: history_states = .false.
+   end type scalar_options_type
+
+   !> Settings of `integrate`: the single values of scalar_options_type and the
+   !> per-component ones. Weights: w_i = atol_i + rtol_i * max(|U_i^n|, |U_i^{n+1}|)
+   !> (|U_i^n| alone for radau5, as RADAU5; or your own `error_weights`).
+   type, extends(scalar_options_type) :: integrator_options_type
+      !> Relative tolerance per component (RADAU5's ITOL = 1); when allocated it replaces `rtol`
+      real(dp), allocatable :: rtol_vector(:)
+      !> Absolute tolerance per component; when allocated it replaces `atol`
+      real(dp), allocatable :: atol_vector(:)
+      !> Weights of your own; when allocated they replace rtol and atol
+      class(error_weight_type), allocatable :: error_weights
       !> Components that must stay >= 0 (one entry per unknown; unallocated: none), as
       !> concentrations must: a step that makes one negative by at most a tenth of the
       !> tolerance (in the error norm) has it set to 0, a step that makes one more
@@ -175,6 +184,51 @@ contains
       options%newton_error_estimate = .false.
       options%exact_newton_matrix = .false.
    end function paper_options
+
+   !> destination = source, without the stop a failed allocation would be: the
+   !> per-component settings are allocated with a status (status_out_of_memory leaves
+   !> destination as it was), the single values copied in one assignment that allocates
+   !> nothing. (Error weights of your own are copied by an allocation with source=, which
+   !> copies their own allocatable components, if they have any, without a status.)
+   subroutine copy_options(source, destination, stat)
+      !> The options to copy
+      type(integrator_options_type), intent(in) :: source
+      !> The copy
+      type(integrator_options_type), intent(inout) :: destination
+      !> status_out_of_memory when the per-component settings cannot be allocated
+      type(status_type), intent(inout) :: stat
+      real(dp), allocatable :: rtol(:), atol(:)
+      logical, allocatable :: nonnegative(:)
+      class(error_weight_type), allocatable :: weights
+      integer :: memory
+      memory = 0
+      if (allocated(source%rtol_vector)) allocate (rtol, mold=source%rtol_vector, stat=memory)
+      if (memory == 0 .and. allocated(source%atol_vector)) allocate (atol, mold=source%atol_vector, stat=memory)
+      if (memory == 0 .and. allocated(source%nonnegative)) &
+         allocate (nonnegative, mold=source%nonnegative, stat=memory)
+      if (memory == 0 .and. allocated(source%error_weights)) &
+         allocate (weights, source=source%error_weights, stat=memory)
+      if (memory /= 0) then
+         call out_of_memory(stat, "a copy of the options' per-component settings", [3, max(longest(source%rtol_vector), &
+            longest(source%atol_vector))], real_bytes)
+         return
+      end if
+      if (allocated(rtol)) rtol(:) = source%rtol_vector
+      if (allocated(atol)) atol(:) = source%atol_vector
+      if (allocated(nonnegative)) nonnegative(:) = source%nonnegative
+      destination%scalar_options_type = source%scalar_options_type
+      call move_alloc(rtol, destination%rtol_vector)
+      call move_alloc(atol, destination%atol_vector)
+      call move_alloc(nonnegative, destination%nonnegative)
+      call move_alloc(weights, destination%error_weights)
+   contains
+      !> Size of a vector (0 when unallocated)
+      pure integer function longest(vector)
+         real(dp), allocatable, intent(in) :: vector(:)
+         longest = 0
+         if (allocated(vector)) longest = size(vector)
+      end function longest
+   end subroutine copy_options
 
    !> Check every option for a system of n unknowns; stat says which one is wrong.
    !> Every real option must be finite (an infinite tolerance or q is an error, not a

@@ -16,6 +16,8 @@
 !> into which every polynomial fits and that costs d multiply-adds per component.
 module taylorode_integrate_step
    use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    implicit none
    private
 
@@ -195,23 +197,39 @@ contains
 
    !> Work arrays for n unknowns and dense output up to degree max_degree (at least
    !> the cubic Hermite interpolant's).
-   pure subroutine reserve(self, n, max_degree)
+   subroutine reserve(self, n, max_degree, stat)
       !> The step
       class(accepted_step_type), intent(inout) :: self
       !> Unknowns
       integer, intent(in) :: n
       !> Largest degree of the scheme's own dense output (0: none)
       integer, intent(in) :: max_degree
-      integer :: degree
+      !> status_out_of_memory when the arrays cannot be allocated (none is then)
+      type(status_type), intent(inout) :: stat
+      integer :: degree, memory
       degree = max(hermite_degree, max_degree)
-      if (allocated(self%u_start)) then
+      if (allocated(self%coefficients)) then
          if (size(self%u_start) == n .and. size(self%nodes) == degree) return
-         deallocate (self%u_start, self%u_end, self%rhs_start, self%rhs_end, self%nodes, self%points, &
-            self%coefficients)
       end if
+      call release()
       allocate (self%u_start(n), self%u_end(n), self%rhs_start(n), self%rhs_end(n), self%nodes(degree), &
-         self%points(0:degree), self%coefficients(n, 0:degree))
+         self%points(0:degree), self%coefficients(n, 0:degree), stat=memory)
+      if (memory /= 0) then
+         call release()
+         call out_of_memory(stat, "the states and the dense output of a step", [5 + degree, n], real_bytes)
+      end if
       self%degree = 0
+   contains
+      !> Every array deallocated (after a failed allocation, some may be allocated)
+      subroutine release()
+         if (allocated(self%u_start)) deallocate (self%u_start)
+         if (allocated(self%u_end)) deallocate (self%u_end)
+         if (allocated(self%rhs_start)) deallocate (self%rhs_start)
+         if (allocated(self%rhs_end)) deallocate (self%rhs_end)
+         if (allocated(self%nodes)) deallocate (self%nodes)
+         if (allocated(self%points)) deallocate (self%points)
+         if (allocated(self%coefficients)) deallocate (self%coefficients)
+      end subroutine release
    end subroutine reserve
 
 end module taylorode_integrate_step

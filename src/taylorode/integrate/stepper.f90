@@ -20,7 +20,8 @@ module taylorode_integrate_stepper
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite, &
       status_evaluation_failed
-   use taylorode_problem_ode, only: ode_problem, sized
+   use taylorode_base_memory, only: sized
+   use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_scheme, advance_high, &
@@ -138,7 +139,7 @@ contains
    !> changes), the Newton policy of the options and the controller exponent q
    !> (options%q, or the lower order of the scheme's pair plus one). The controller
    !> and the Newton fraction the options leave to the scheme are settled here.
-   subroutine start(self, n, scheme, options)
+   subroutine start(self, n, scheme, options, stat)
       !> The stepper
       class(stepper_type), intent(inout) :: self
       !> Unknowns
@@ -147,14 +148,16 @@ contains
       class(scheme_type), intent(in) :: scheme
       !> The options (validated)
       type(integrator_options_type), intent(in) :: options
-      if (allocated(self%u_new)) then
-         if (size(self%u_new) /= n) deallocate (self%u_new, self%delta, self%weights, self%newton%tolerance, &
-            self%u_step_start, self%u_step_end, self%guess)
-      end if
-      if (.not. allocated(self%u_new)) then
-         allocate (self%u_new(n), self%delta(n), self%weights(n), self%newton%tolerance(n), &
-            self%u_step_start(n), self%u_step_end(n), self%guess(n))
-      end if
+      !> status_out_of_memory when the work arrays cannot be allocated
+      type(status_type), intent(inout) :: stat
+      character(len=*), parameter :: what = "the stepper's work arrays"
+      call sized(self%u_new, n, what, stat)
+      call sized(self%delta, n, what, stat)
+      call sized(self%weights, n, what, stat)
+      call sized(self%newton%tolerance, n, what, stat)
+      call sized(self%u_step_start, n, what, stat)
+      call sized(self%u_step_end, n, what, stat)
+      call sized(self%guess, n, what, stat)
       self%newton%max_iterations = options%max_newton_iterations
       self%newton%reuse_matrix = options%reuse_newton_matrix
       self%newton%estimate_error = options%newton_error_estimate
@@ -173,13 +176,14 @@ contains
             self%estimate = estimate_doubling
          end if
       end if
-      call sized(self%violation, merge(n, 0, allocated(options%nonnegative)))
-      call sized(self%propagated, merge(n, 0, scheme%amplifies_errors))
-      call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling))
+      call sized(self%violation, merge(n, 0, allocated(options%nonnegative)), what, stat)
+      call sized(self%propagated, merge(n, 0, scheme%amplifies_errors), what, stat)
+      call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling), what, stat)
       ! the states and Newton tolerances of step doubling's half and whole steps
-      call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling))
-      call sized(self%u_whole, size(self%u_half))
-      call sized(self%newton_whole%tolerance, size(self%u_half))
+      call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling), what, stat)
+      call sized(self%u_whole, merge(n, 0, self%estimate == estimate_doubling), what, stat)
+      call sized(self%newton_whole%tolerance, merge(n, 0, self%estimate == estimate_doubling), what, stat)
+      if (stat%code /= status_ok) return
       self%newton%kept_factorizations = merge(2, 1, self%estimate == estimate_doubling)
       self%newton_whole%kept_factorizations = self%newton%kept_factorizations
       if (self%estimate == estimate_doubling) then
@@ -521,6 +525,8 @@ contains
          real(dp), intent(in), optional :: more_values(:)
          if (problem%evaluation_rejected()) then
             call set_code(step_stat, status_evaluation_failed)
+            ! status_out_of_memory, when a work array of the problem could not be allocated
+            call problem%memory_failure(step_stat)
          else if (step_stat%code == status_ok) then
             if (.not. finite(values)) call set_code(step_stat, status_nonfinite)
             if (present(more_values)) then

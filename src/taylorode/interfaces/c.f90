@@ -21,6 +21,7 @@ module taylorode_interfaces_c
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch, status_unknown_scheme
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
    use taylorode_schemes_scheme, only: scheme_type
@@ -246,6 +247,8 @@ contains
       integer(c_int), value :: lower, upper
       type(session_type), pointer :: session
       type(status_type) :: stat
+      real(dp), allocatable :: work(:, :)
+      integer :: memory
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
@@ -255,9 +258,15 @@ contains
          code = remember(session, stat)
          return
       end if
+      ! a new work array first: the settings stay as they were when it cannot be allocated
+      allocate (work(lower + upper + 1, session%n), stat=memory)
+      if (memory /= 0) then
+         call out_of_memory(stat, "the band Jacobians' work array", [lower + upper + 1, session%n], real_bytes)
+         code = remember(session, stat)
+         return
+      end if
+      call move_alloc(work, session%problem%band_work)
       session%problem%structure = band_structure(lower, upper)
-      if (allocated(session%problem%band_work)) deallocate (session%problem%band_work)
-      allocate (session%problem%band_work(lower + upper + 1, session%n))
       code = succeeded(session)
    end function taylorode_set_bandwidths
 
@@ -283,6 +292,9 @@ contains
       type(c_ptr), value :: handle
       real(c_double), intent(in), optional :: rtol(*), atol(*)
       type(session_type), pointer :: session
+      type(status_type) :: stat
+      real(dp), allocatable :: rtol_copy(:), atol_copy(:)
+      integer :: memory
       session => session_of(handle)
       code = status_invalid_argument
       if (.not. associated(session)) return
@@ -291,8 +303,17 @@ contains
             "not NULL")
          return
       end if
-      session%options%rtol_vector = rtol(:session%n)
-      session%options%atol_vector = atol(:session%n)
+      ! copies first: the tolerances stay as they were when they cannot be allocated
+      allocate (rtol_copy(session%n), atol_copy(session%n), stat=memory)
+      if (memory /= 0) then
+         call out_of_memory(stat, "the tolerance vectors", [2, session%n], real_bytes)
+         code = remember(session, stat)
+         return
+      end if
+      rtol_copy = rtol(:session%n)
+      atol_copy = atol(:session%n)
+      call move_alloc(rtol_copy, session%options%rtol_vector)
+      call move_alloc(atol_copy, session%options%atol_vector)
       code = succeeded(session)
    end function taylorode_set_tolerance_vectors
 
@@ -492,8 +513,11 @@ contains
       type(c_problem_type), intent(inout) :: self
       type(c_funptr), intent(in) :: callback
       real(dp), intent(in) :: t
-      real(dp), intent(in), contiguous :: u(:)
-      real(dp), intent(out), contiguous :: dudt(:)
+      ! (not declared contiguous: for a contiguous dummy gfortran copies an assumed-shape
+      ! actual into a new array at every call; the callback's assumed-size arguments
+      ! are packed only when the arrays are not contiguous, which the library's are)
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
       procedure(c_rhs_interface), pointer :: part
       integer(c_int) :: returned
       if (.not. c_associated(callback)) then
@@ -505,13 +529,13 @@ contains
       if (returned /= 0) call self%reject_evaluation(fatal=returned < 0)
    end subroutine call_part
 
-   !> Call a Jacobian callback into jac (contiguous); false when there is none.
+   !> Call a Jacobian callback into jac; false when there is none.
    logical function call_jacobian(self, callback, t, u, jac) result(called)
       type(c_problem_type), intent(inout) :: self
       type(c_funptr), intent(in) :: callback
       real(dp), intent(in) :: t
-      real(dp), intent(in), contiguous :: u(:)
-      real(dp), intent(out), contiguous :: jac(:, :)
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
       procedure(c_jacobian_interface), pointer :: jacobian
       integer(c_int) :: returned
       called = c_associated(callback)

@@ -24,13 +24,15 @@
 !> IWORK(20) linear solves; X, Y where the integration stopped, H the next step.
 !> IDID: 1 success, 2 stopped by SOLOUT, -1 inconsistent input or unknown scheme, -2
 !> step budget, -3 step size too small, -4 Newton matrix repeatedly singular, -5
-!> Newton failed repeatedly, -6 NaN or Inf, -7 the problem rejected evaluations.
+!> Newton failed repeatedly, -6 NaN or Inf, -7 the problem rejected evaluations, -8
+!> memory could not be allocated (the Newton matrices of a large N, say).
 module taylorode_interfaces_legacy
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged, status_step_underflow, status_max_steps, status_unknown_scheme, &
-      status_evaluation_failed
+      status_evaluation_failed, status_out_of_memory
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
    use taylorode_schemes_scheme, only: scheme_type
@@ -128,6 +130,8 @@ module taylorode_interfaces_legacy
       real(dp), allocatable :: cont(:)
       !> Largest degree of the dense output (the scheme's own or the cubic Hermite one)
       integer :: max_degree = hermite_degree
+      !> The copy of the state SOLOUT is given (it may write it)
+      real(dp), allocatable :: y_copy(:)
       !> SOLOUT asked to stop
       logical :: stopped = .false.
    contains
@@ -188,6 +192,7 @@ contains
       type(integrator_type) :: integrator
       type(integration_stats_type) :: stats
       type(status_type) :: stat
+      integer :: memory
 
       idid = -1
       if (n < 1 .or. lwork < 20 .or. liwork < 20 .or. (itol /= 0 .and. itol /= 1) .or. .not. (xend > x)) return
@@ -207,17 +212,27 @@ contains
       if (mljac < n) problem%structure = band_structure(mljac, mujac)
       problem%rpar = c_loc(rpar(1))
       problem%ipar = c_loc(ipar(1))
-      allocate (problem%x_state(n))
+      allocate (problem%x_state(n), stat=memory)
       if (problem%structure%storage == storage_band) then
-         allocate (problem%jac_work(problem%structure%lower + problem%structure%upper + 1, n))
+         if (memory == 0) allocate (problem%jac_work(problem%structure%lower + problem%structure%upper + 1, n), &
+            stat=memory)
       else
-         allocate (problem%jac_work(n, n))
+         if (memory == 0) allocate (problem%jac_work(n, n), stat=memory)
+      end if
+      if (memory /= 0) then
+         idid = outcome_code(status_out_of_memory)
+         return
       end if
 
       if (itol == 0) then
          options%rtol = rtol(1)
          options%atol = atol(1)
       else
+         allocate (options%rtol_vector(n), options%atol_vector(n), stat=memory)
+         if (memory /= 0) then
+            idid = outcome_code(status_out_of_memory)
+            return
+         end if
          options%rtol_vector = rtol(:n)
          options%atol_vector = atol(:n)
       end if
@@ -236,13 +251,17 @@ contains
             observer%rpar = problem%rpar
             observer%ipar = problem%ipar
             observer%max_degree = max(hermite_degree, scheme%dense_degree)
-            allocate (observer%cont(4 + observer%max_degree + n*(observer%max_degree + 1)), source=0.0_dp)
-            call start_solout(observer, x, y, n)
+            allocate (observer%cont(4 + observer%max_degree + n*(observer%max_degree + 1)), observer%y_copy(n), &
+               source=0.0_dp, stat=memory)
+            if (memory /= 0) call out_of_memory(stat, "SOLOUT's copy of the step", [observer%max_degree + 2, n], &
+               real_bytes)
+            if (stat%code == status_ok) call start_solout(observer, x, y, n)
             if (observer%stopped) then
                idid = 2
                return
             end if
-            call integrator%advance_to(problem, scheme, xend, y, stat, stats, observer=observer)
+            if (stat%code == status_ok) call integrator%advance_to(problem, scheme, xend, y, stat, stats, &
+               observer=observer)
          else
             call integrator%advance_to(problem, scheme, xend, y, stat, stats)
          end if
@@ -271,6 +290,7 @@ contains
       case (status_newton_diverged, status_newton_not_converged); outcome_code = -5
       case (status_nonfinite); outcome_code = -6
       case (status_evaluation_failed); outcome_code = -7
+      case (status_out_of_memory); outcome_code = -8
       case default; outcome_code = -1
       end select
    end function outcome_code
@@ -280,12 +300,12 @@ contains
       type(legacy_observer_type), intent(inout) :: self
       real(dp), intent(in) :: x, y(:)
       integer, intent(in) :: n
-      real(dp) :: x_copy, y_copy(n)
+      real(dp) :: x_copy
       real(dp), pointer :: rpar(:)
       integer, pointer :: ipar(:)
       integer :: irtrn, nr, lrc, n_copy
       x_copy = x
-      y_copy = y
+      self%y_copy = y
       self%cont(1:4) = [x, 1.0_dp, real(n, dp), 0.0_dp]
       self%cont(5 + self%max_degree:4 + self%max_degree + n) = y
       self%calls = 1
@@ -295,7 +315,7 @@ contains
       irtrn = 0
       call c_f_pointer(self%rpar, rpar, [1])
       call c_f_pointer(self%ipar, ipar, [1])
-      call self%solout(nr, x_copy, x_copy, y_copy, self%cont, lrc, n_copy, rpar, ipar, irtrn)
+      call self%solout(nr, x_copy, x_copy, self%y_copy, self%cont, lrc, n_copy, rpar, ipar, irtrn)
       self%stopped = irtrn < 0
    end subroutine start_solout
 
@@ -305,24 +325,26 @@ contains
       logical, intent(inout) :: stop
       real(dp), pointer :: rpar(:)
       integer, pointer :: ipar(:)
-      real(dp) :: x_old, x_new, y_copy(size(step%u_end))
-      integer :: irtrn, n, lrc, nr, first
+      real(dp) :: x_old, x_new
+      integer :: irtrn, n, lrc, nr, first, k
       n = size(step%u_end)
       self%cont(1:4) = [step%t_start, step%h, real(n, dp), real(step%degree, dp)]
       self%cont(5:4 + step%degree) = step%nodes(:step%degree)
       first = 5 + self%max_degree
-      self%cont(first:first - 1 + n*(step%degree + 1)) = reshape(step%coefficients(:, :step%degree), &
-         [n*(step%degree + 1)])
+      ! column by column (a reshape would build a temporary of the whole step)
+      do k = 0, step%degree
+         self%cont(first + k*n:first - 1 + (k + 1)*n) = step%coefficients(:, k)
+      end do
       self%calls = self%calls + 1
       nr = self%calls
       lrc = size(self%cont)
       x_old = step%t_start
       x_new = step%t_end
-      y_copy = step%u_end
+      self%y_copy = step%u_end
       irtrn = 0
       call c_f_pointer(self%rpar, rpar, [1])
       call c_f_pointer(self%ipar, ipar, [1])
-      call self%solout(nr, x_old, x_new, y_copy, self%cont, lrc, n, rpar, ipar, irtrn)
+      call self%solout(nr, x_old, x_new, self%y_copy, self%cont, lrc, n, rpar, ipar, irtrn)
       if (irtrn < 0) then
          self%stopped = .true.
          stop = .true.

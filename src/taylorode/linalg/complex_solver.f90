@@ -12,6 +12,7 @@ module taylorode_linalg_complex_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_singular_matrix
+   use taylorode_base_memory, only: out_of_memory, complex_bytes
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, storage_dense, storage_band
    use taylorode_linalg_lapack, only: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, &
@@ -62,15 +63,20 @@ contains
       integer, intent(in) :: n
       !> Storage and bandwidths of the Jacobians it will be assembled from
       type(matrix_structure_type), intent(in) :: structure
-      !> status_invalid_argument for an impossible structure
+      !> status_invalid_argument for an impossible structure, status_out_of_memory
       type(status_type), intent(inout) :: stat
+      integer :: memory
       if (n < 1) then
          call set_status(stat, status_invalid_argument, "complex solver: the order must be at least 1")
          return
       end if
       select case (structure%storage)
       case (storage_dense)
-         allocate (solver%a(n, n))
+         allocate (solver%a(n, n), stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "a complex dense matrix", [n, n], complex_bytes)
+            return
+         end if
       case (storage_band)
          if (structure%lower < 0 .or. structure%upper < 0) then
             call set_status(stat, status_invalid_argument, "complex solver: bandwidths must be >= 0")
@@ -78,7 +84,11 @@ contains
          end if
          solver%kl = min(structure%lower, n - 1)
          solver%ku = min(structure%upper, n - 1)
-         allocate (solver%a(2*solver%kl + solver%ku + 1, n))
+         allocate (solver%a(2*solver%kl + solver%ku + 1, n), stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "a complex band matrix", [2*solver%kl + solver%ku + 1, n], complex_bytes)
+            return
+         end if
       case default
          call set_status(stat, status_invalid_argument, "complex solver: unknown storage")
          return
@@ -86,7 +96,11 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n))
+      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n), stat=memory)
+      if (memory /= 0) then
+         deallocate (solver%a)
+         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [3, n], complex_bytes)
+      end if
    end subroutine new_complex_solver
 
    !> a = s I - J. J must have the solver's order and fit its storage: any J for a

@@ -9,6 +9,7 @@
 module taylorode_linalg_matrix
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument
+   use taylorode_base_memory, only: out_of_memory, real_bytes
    implicit none
    private
 
@@ -178,7 +179,8 @@ contains
    !> A zero n x n matrix with the given structure; bandwidths are clamped to n - 1,
    !> and a structure that is not valid for n (negative bandwidths, unknown storage)
    !> leaves `matrix` unallocated with status_invalid_argument. A band matrix keeps
-   !> room for LU factors only when `factored` says it will be factored.
+   !> room for LU factors only when `factored` says it will be factored. A matrix that
+   !> cannot be allocated is status_out_of_memory (`matrix` unallocated).
    subroutine new_matrix(matrix, n, structure, stat, factored)
       !> The new matrix
       class(matrix_type), allocatable, intent(out) :: matrix
@@ -186,13 +188,14 @@ contains
       integer, intent(in) :: n
       !> Storage and bandwidths
       type(matrix_structure_type), intent(in) :: structure
-      !> status_invalid_argument for an impossible structure
+      !> status_invalid_argument for an impossible structure, status_out_of_memory
       type(status_type), intent(inout) :: stat
       !> Whether the matrix will be factored in place (band: LAPACK's layout with room
       !> for the fill-in; default: no)
       logical, intent(in), optional :: factored
       type(dense_matrix_type), allocatable :: dense
       type(band_matrix_type), allocatable :: band
+      integer :: memory
 
       if (n < 1) then
          call set_status(stat, status_invalid_argument, "matrix: the order must be at least 1")
@@ -202,7 +205,11 @@ contains
       case (storage_dense)
          allocate (dense)
          dense%n = n
-         allocate (dense%a(n, n), source=0.0_dp)
+         allocate (dense%a(n, n), source=0.0_dp, stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "a dense matrix", [n, n], real_bytes)
+            return
+         end if
          call move_alloc(dense, matrix)
       case (storage_band)
          if (structure%lower < 0 .or. structure%upper < 0) then
@@ -218,7 +225,11 @@ contains
             if (factored) band%fill = band%kl
          end if
          band%diagonal = band%fill + band%ku + 1
-         allocate (band%ab(band%fill + band%kl + band%ku + 1, n), source=0.0_dp)
+         allocate (band%ab(band%fill + band%kl + band%ku + 1, n), source=0.0_dp, stat=memory)
+         if (memory /= 0) then
+            call out_of_memory(stat, "a band matrix", [band%fill + band%kl + band%ku + 1, n], real_bytes)
+            return
+         end if
          call move_alloc(band, matrix)
       case default
          call set_status(stat, status_invalid_argument, "matrix: unknown storage")

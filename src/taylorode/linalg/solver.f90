@@ -12,6 +12,7 @@ module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
       status_singular_matrix
+   use taylorode_base_memory, only: out_of_memory, real_bytes, integer_bytes
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, new_matrix
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, &
@@ -51,11 +52,17 @@ contains
       integer, intent(in) :: n
       !> Storage and bandwidths of the matrices to factor
       type(matrix_structure_type), intent(in) :: structure
-      !> status_invalid_argument for an impossible structure
+      !> status_invalid_argument for an impossible structure, status_out_of_memory (the
+      !> solver is then without a matrix)
       type(status_type), intent(inout) :: stat
+      integer :: memory
       call new_matrix(solver%matrix, n, structure, stat, factored=.true.)
       if (stat%code /= status_ok) return
-      allocate (solver%pivots(n), solver%inverse_diagonal(n))
+      allocate (solver%pivots(n), solver%inverse_diagonal(n), stat=memory)
+      if (memory /= 0) then
+         deallocate (solver%matrix)
+         call out_of_memory(stat, "the pivots of an LU factorization", [2, n], max(real_bytes, integer_bytes))
+      end if
    end subroutine new_linear_solver
 
    !> Factor the assembled matrix in place (dgetrf or dgbtrf). Failures carry their

@@ -16,6 +16,7 @@ module taylorode_newton_solver
    use taylorode_base_status, only: status_type, set_code, status_ok, status_newton_diverged, &
       status_newton_not_converged, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
+   use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, matrix_structure_type, stacked_structure
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_problem_ode, only: ode_problem
@@ -199,10 +200,11 @@ contains
       integer, intent(in) :: m
       !> Storage and bandwidths of the Newton matrix (of its blocks when stacked)
       type(matrix_structure_type), intent(in) :: structure
-      !> status_invalid_argument for an impossible structure
+      !> status_invalid_argument for an impossible structure, status_out_of_memory
       type(status_type), intent(inout) :: stat
       !> Whether the Newton matrix is factored as a stacked block matrix (default: no)
       logical, intent(in), optional :: stacked
+      character(len=*), parameter :: what = "the Newton solver's work arrays"
       self%m = m
       self%stacked = .false.
       if (present(stacked)) self%stacked = stacked
@@ -211,10 +213,10 @@ contains
       call new_linear_solver(self%kept(1)%linear, merge(2*m, m, self%stacked), self%structure, stat)
       ! a second factorization is allocated again when a solve asks for it
       self%kept(2) = kept_factorization_type()
-      if (allocated(self%increment)) deallocate (self%increment, self%inverse_tolerance, self%propagated)
-      allocate (self%increment(m), self%inverse_tolerance(m), self%propagated(m))
-      if (allocated(self%stacked_vector)) deallocate (self%stacked_vector)
-      if (self%stacked) allocate (self%stacked_vector(2*m))
+      call sized(self%increment, m, what, stat)
+      call sized(self%inverse_tolerance, m, what, stat)
+      call sized(self%propagated, m, what, stat)
+      call sized(self%stacked_vector, merge(2*m, 0, self%stacked), what, stat)
       call self%forget()
    end subroutine init
 

@@ -11,24 +11,26 @@
 !> step size, and repeated rejections end the integration with
 !> status_evaluation_failed.
 !>
+!> The default methods keep work arrays (F's g, J's second part, the differences'
+!> probes), allocated at their first call: one that cannot be allocated rejects the
+!> evaluation fatally, and `memory_failure` tells the integrator, which ends with
+!> status_out_of_memory.
+!>
 !> A problem whose state is distributed over several processes (MPI ranks) holds
 !> only its own part of U in the arrays it is given and overrides `reduce`, so that
 !> every norm, finiteness check and step decision of the integrator is taken on the
 !> whole state and every process decides the same.
 module taylorode_problem_ode
    use taylorode_base_kinds, only: dp
-   use taylorode_base_status, only: status_type, set_status, status_invalid_argument
+   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
+      status_out_of_memory
+   use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_structure_type, dense_structure, storage_dense, storage_band
    implicit none
    private
 
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
-   public :: reduce_sum, reduce_max, sized
-
-   !> A work array allocated again only when its shape differs (vector or matrix)
-   interface sized
-      module procedure sized_vector, sized_matrix
-   end interface sized
+   public :: reduce_sum, reduce_max
 
    !> `reduce` operation: the sum over the processes
    integer, parameter :: reduce_sum = 1
@@ -52,6 +54,9 @@ module taylorode_problem_ode
       logical, private :: rejected = .false.
       !> Set by reject_evaluation(fatal=.true.): the integration stops at once
       logical, private :: fatal = .false.
+      !> Why a work array of a default method could not be allocated ("" when none
+      !> failed; cleared with the rejection it caused)
+      character(len=200), private :: memory = ""
       !> Work arrays of the finite-difference Jacobians
       type(difference_workspace_type), private :: differences
       !> g(t, U) for the default `rhs` (allocated at its first call)
@@ -107,6 +112,8 @@ module taylorode_problem_ode
       procedure, non_overridable :: evaluation_fatal
       !> Forget earlier rejections (the integrator does this before each attempt)
       procedure, non_overridable :: clear_rejection
+      !> Why an evaluation was rejected for want of memory for a work array (if it was)
+      procedure, non_overridable :: memory_failure
    end type ode_problem
 
    !> Problem whose Jacobians are approximated by forward differences of f and g
@@ -244,7 +251,38 @@ contains
       class(ode_problem), intent(inout) :: self
       self%rejected = .false.
       self%fatal = .false.
+      self%memory = ""
    end subroutine clear_rejection
+
+   !> When a default method rejected an evaluation (fatally) because its work array
+   !> could not be allocated: stat = that status_out_of_memory and its message;
+   !> otherwise stat is left as it is.
+   subroutine memory_failure(self, stat)
+      !> The problem
+      class(ode_problem), intent(in) :: self
+      !> Set to the failure, if there was one
+      type(status_type), intent(inout) :: stat
+      if (len_trim(self%memory) > 0) call set_status(stat, status_out_of_memory, trim(self%memory))
+   end subroutine memory_failure
+
+   !> Whether the work array just sized for a default method is there (stat ok); if not,
+   !> the evaluation is rejected fatally (memory_failure says why) and value is zeroed.
+   logical function work_ready(self, stat, value)
+      class(ode_problem), intent(inout) :: self
+      type(status_type), intent(in) :: stat
+      real(dp), intent(out) :: value(..)
+      work_ready = stat%code == status_ok
+      if (work_ready) return
+      self%memory = "out of memory: a work array of the problem"
+      if (allocated(stat%message)) self%memory = stat%message
+      call self%reject_evaluation(fatal=.true.)
+      select rank (value)
+      rank (1)
+         value = 0.0_dp
+      rank (2)
+         value = 0.0_dp
+      end select
+   end function work_ready
 
    !> df/dU in LAPACK band storage, band(upper + 1 + i - j, j) = df_i/du_j, by
    !> forward differences on groups of columns lower + upper + 1 apart (one f
@@ -285,8 +323,10 @@ contains
       real(dp), intent(in) :: u(:)
       !> F(t, u), same size as u
       real(dp), intent(out) :: dudt(:)
+      type(status_type) :: stat
       integer :: i
-      call sized(self%rhs_work, size(u))
+      call sized(self%rhs_work, size(u), "the problem's work array for g", stat)
+      if (.not. work_ready(self, stat, dudt)) return
       call self%f(t, u, dudt)
       call self%g(t, u, self%rhs_work)
       do i = 1, size(u)
@@ -304,8 +344,10 @@ contains
       real(dp), intent(in) :: u(:)
       !> J(t, u), size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
+      type(status_type) :: stat
+      call sized(self%jacobian_work, size(jac, 1), size(jac, 2), "the problem's work matrix for dg/dU", stat)
+      if (.not. work_ready(self, stat, jac)) return
       call self%jac_f(t, u, jac)
-      call sized(self%jacobian_work, size(jac, 1), size(jac, 2))
       call self%jac_g(t, u, self%jacobian_work)
       jac = jac + self%jacobian_work
    end subroutine full_jacobian
@@ -321,8 +363,10 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
+      type(status_type) :: stat
+      call sized(self%jacobian_work, size(band, 1), size(band, 2), "the problem's work matrix for dg/dU", stat)
+      if (.not. work_ready(self, stat, band)) return
       call self%jac_f_band(t, u, band)
-      call sized(self%jacobian_work, size(band, 1), size(band, 2))
       call self%jac_g_band(t, u, self%jacobian_work)
       band = band + self%jacobian_work
    end subroutine full_band_jacobian
@@ -377,41 +421,20 @@ contains
       real(dp), intent(inout) :: values(:)
    end subroutine reduce
 
-   !> Work arrays for n unknowns (allocated only when n changes).
-   subroutine prepare_workspace(workspace, n)
-      type(difference_workspace_type), intent(inout) :: workspace
+   !> Work arrays of the differences for n unknowns (allocated only when n changes);
+   !> false, with the evaluation rejected and value zeroed, when they cannot be allocated.
+   logical function workspace_ready(self, n, value)
+      class(ode_problem), intent(inout) :: self
       integer, intent(in) :: n
-      call sized(workspace%base, n)
-      call sized(workspace%shifted, n)
-      call sized(workspace%probe, n)
-      call sized(workspace%increment, n)
-   end subroutine prepare_workspace
-
-   !> A work matrix of rows x columns: allocated again only when its shape differs.
-   pure subroutine sized_matrix(work, rows, columns)
-      !> The work matrix
-      real(dp), allocatable, intent(inout) :: work(:, :)
-      !> Its shape
-      integer, intent(in) :: rows, columns
-      if (allocated(work)) then
-         if (size(work, 1) == rows .and. size(work, 2) == columns) return
-         deallocate (work)
-      end if
-      allocate (work(rows, columns))
-   end subroutine sized_matrix
-
-   !> A work array of n entries: allocated again only when its size differs.
-   pure subroutine sized_vector(work, n)
-      !> The work array
-      real(dp), allocatable, intent(inout) :: work(:)
-      !> Its size
-      integer, intent(in) :: n
-      if (allocated(work)) then
-         if (size(work) == n) return
-         deallocate (work)
-      end if
-      allocate (work(n))
-   end subroutine sized_vector
+      real(dp), intent(out) :: value(..)
+      character(len=*), parameter :: what = "the work arrays of the difference Jacobians"
+      type(status_type) :: stat
+      call sized(self%differences%base, n, what, stat)
+      call sized(self%differences%shifted, n, what, stat)
+      call sized(self%differences%probe, n, what, stat)
+      call sized(self%differences%increment, n, what, stat)
+      workspace_ready = work_ready(self, stat, value)
+   end function workspace_ready
 
    !> Grouped forward differences of f (`of_f`) or g into band storage: the columns
    !> j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The band
@@ -437,7 +460,7 @@ contains
       upper = min(structure%upper, size(band, 1) - 1)
       lower = size(band, 1) - 1 - upper
       width = lower + upper + 1
-      call prepare_workspace(self%differences, n)
+      if (.not. workspace_ready(self, n, band)) return
       associate (base => self%differences%base, shifted => self%differences%shifted, &
          probe => self%differences%probe, increment => self%differences%increment)
          band = 0.0_dp
@@ -492,7 +515,7 @@ contains
       real(dp), intent(out) :: jac(:, :)
       real(dp) :: increment
       integer :: j
-      call prepare_workspace(self%differences, size(u))
+      if (.not. workspace_ready(self, size(u), jac)) return
       associate (base => self%differences%base, shifted => self%differences%shifted, &
          probe => self%differences%probe)
          call evaluate_part(self, of_f, t, u, base)
@@ -535,7 +558,7 @@ contains
          return
       end if
       increment = sqrt(epsilon(1.0_dp))*max(sizes(1), 1.0_dp)/sizes(2)
-      call prepare_workspace(self%differences, size(u))
+      if (.not. workspace_ready(self, size(u), jv)) return
       associate (base => self%differences%base, probe => self%differences%probe)
          probe = u + increment*v
          call evaluate_part(self, of_f, t, u, base)

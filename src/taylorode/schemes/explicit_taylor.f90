@@ -5,6 +5,7 @@
 module taylorode_schemes_explicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite
+   use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
@@ -66,11 +67,14 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
+      character(len=*), parameter :: what = "the work arrays of an explicit Taylor scheme"
       if (.not. self%resize(problem, n, stat)) return
-      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%rhs0, self%taylor2)
-      allocate (self%f0(n), self%g0(n), self%rhs0(n), self%taylor2(n))
-      call new_matrix(self%jac_f0, n, self%structure, stat)
-      call new_matrix(self%jac_g0, n, self%structure, stat)
+      call sized(self%f0, n, what, stat)
+      call sized(self%g0, n, what, stat)
+      call sized(self%rhs0, n, what, stat)
+      call sized(self%taylor2, n, what, stat)
+      if (stat%code == status_ok) call new_matrix(self%jac_f0, n, self%structure, stat)
+      if (stat%code == status_ok) call new_matrix(self%jac_g0, n, self%structure, stat)
       if (stat%code /= status_ok) self%n = 0
    end subroutine explicit_taylor_prepare
 

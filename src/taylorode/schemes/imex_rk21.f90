@@ -12,6 +12,7 @@
 module taylorode_schemes_imex_rk21
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_memory, only: sized
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
@@ -94,11 +95,16 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
+      character(len=*), parameter :: what = "imex-rk21's work arrays"
       if (.not. self%resize(problem, n, stat)) return
       call self%newton%init(n, self%structure, stat)
-      if (allocated(self%y1)) deallocate (self%stage%known, self%y1, self%f_y1, self%g_y1, self%f_y2, self%g_y2)
-      allocate (self%stage%known(n), self%y1(n), self%f_y1(n), self%g_y1(n), self%f_y2(n), self%g_y2(n))
-      call new_matrix(self%stage%jac_g, n, self%structure, stat)
+      call sized(self%stage%known, n, what, stat)
+      call sized(self%y1, n, what, stat)
+      call sized(self%f_y1, n, what, stat)
+      call sized(self%g_y1, n, what, stat)
+      call sized(self%f_y2, n, what, stat)
+      call sized(self%g_y2, n, what, stat)
+      if (stat%code == status_ok) call new_matrix(self%stage%jac_g, n, self%structure, stat)
       if (stat%code /= status_ok) self%n = 0
    end subroutine imex_prepare
 

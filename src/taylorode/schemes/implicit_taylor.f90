@@ -15,6 +15,7 @@
 module taylorode_schemes_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_memory, only: sized
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
@@ -115,17 +116,19 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
+      character(len=*), parameter :: what = "the work arrays of an implicit Taylor scheme"
       if (.not. self%resize(problem, n, stat)) return
       call self%newton(1)%init(n, self%structure, stat)
-      call self%newton(2)%init(n, self%structure, stat, stacked=.true.)
-      if (allocated(self%rhs_checked)) deallocate (self%rhs_checked, self%u_checked)
-      allocate (self%rhs_checked(n), self%u_checked(n))
+      if (stat%code == status_ok) call self%newton(2)%init(n, self%structure, stat, stacked=.true.)
+      call sized(self%rhs_checked, n, what, stat)
+      call sized(self%u_checked, n, what, stat)
       self%checked = .false.
       associate (system => self%system)
-         if (allocated(system%u0)) deallocate (system%u0, system%rhs1, system%probe)
-         allocate (system%u0(n), system%rhs1(n), system%probe(n))
-         call new_matrix(system%jac1, n, self%structure, stat)
-         if (self%order == 2) call new_matrix(system%jac_probe, n, self%structure, stat)
+         call sized(system%u0, n, what, stat)
+         call sized(system%rhs1, n, what, stat)
+         call sized(system%probe, n, what, stat)
+         if (stat%code == status_ok) call new_matrix(system%jac1, n, self%structure, stat)
+         if (self%order == 2 .and. stat%code == status_ok) call new_matrix(system%jac_probe, n, self%structure, stat)
       end associate
       if (stat%code /= status_ok) self%n = 0
    end subroutine implicit_taylor_prepare

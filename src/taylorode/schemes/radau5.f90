@@ -59,6 +59,7 @@ module taylorode_schemes_radau5
    use taylorode_base_status, only: status_type, set_code, status_ok, status_singular_matrix, &
       status_evaluation_failed, status_nonfinite, &
       status_newton_diverged, status_newton_not_converged
+   use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
@@ -291,6 +292,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
+      character(len=*), parameter :: what = "radau5's stages and work arrays"
       if (.not. self%resize(problem, n, stat)) return
       call new_matrix(self%jac, n, self%structure, stat)
       if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
@@ -300,13 +302,20 @@ contains
          return
       end if
       self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
-      if (allocated(self%z)) then
-         deallocate (self%z, self%w, self%r, self%polynomial, self%u_start, self%rhs0, &
-            self%stage, self%estimate, self%stage_part)
+      call sized(self%z, n, 3, what, stat)
+      call sized(self%w, n, 3, what, stat)
+      call sized(self%r, n, 3, what, stat)
+      call sized(self%polynomial, n, 3, what, stat)
+      call sized(self%u_start, n, what, stat)
+      call sized(self%rhs0, n, what, stat)
+      call sized(self%stage, n, what, stat)
+      call sized(self%estimate, n, what, stat)
+      call sized(self%stage_part, n, what, stat)
+      if (stat%code /= status_ok) then
+         self%n = 0
+         return
       end if
-      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3))
-      allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%estimate(n), &
-         self%stage_part(n))
+      ! (at most small_lu_max_order: a few kilobytes)
       if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
       if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
       call self%restart()

@@ -13,6 +13,7 @@ module taylorode_schemes_scheme
    use taylorode_base_status, only: status_type, set_status, set_code, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_evaluation_failed
    use taylorode_base_counters, only: counters_type
+   use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type
    use taylorode_problem_ode, only: ode_problem
@@ -226,12 +227,14 @@ contains
       call self%prepare(problem, size(u0), stat)
       if (stat%code /= status_ok) return
       call self%restart()
-      call default_newton_settings(u0, newton)
+      call default_newton_settings(u0, newton, stat)
+      if (stat%code /= status_ok) return
       call problem%clear_rejection()
       call self%advance(problem, t, h, u0, u1, newton, stat, delta)
       if (problem%evaluation_rejected()) then
          call set_status(stat, status_evaluation_failed, &
             "take_step: the problem could not evaluate f, g or a Jacobian during the step")
+         call problem%memory_failure(stat)
       else if (stat%code == status_ok .and. .not. all(ieee_is_finite(u1))) then
          call set_status(stat, status_nonfinite, "take_step: the new state contains NaN or Inf")
       end if
@@ -253,15 +256,15 @@ contains
 
    !> Newton settings of a step taken without an integrator: increments below
    !> default_newton_tolerance * (1 + |u0|), default iteration limit, matrices kept.
-   pure subroutine default_newton_settings(u0, newton)
+   pure subroutine default_newton_settings(u0, newton, stat)
       !> State at the start of the step
       real(dp), intent(in) :: u0(:)
       !> The settings; the tolerance is (re)allocated only when its size changes
       type(newton_settings_type), intent(inout) :: newton
-      if (allocated(newton%tolerance)) then
-         if (size(newton%tolerance) /= size(u0)) deallocate (newton%tolerance)
-      end if
-      if (.not. allocated(newton%tolerance)) allocate (newton%tolerance(size(u0)))
+      !> status_out_of_memory when the tolerances cannot be allocated
+      type(status_type), intent(inout) :: stat
+      call sized(newton%tolerance, size(u0), "the Newton tolerances", stat)
+      if (stat%code /= status_ok) return
       newton%tolerance = default_newton_tolerance*(1.0_dp + abs(u0))
    end subroutine default_newton_settings
 

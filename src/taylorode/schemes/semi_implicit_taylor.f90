@@ -27,6 +27,7 @@
 module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument
+   use taylorode_base_memory, only: sized
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
@@ -165,6 +166,7 @@ contains
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
+      character(len=*), parameter :: what = "the work arrays of a semi-implicit Taylor scheme"
       integer :: k
       if (.not. self%resize(problem, n, stat)) return
       ! the Newton solvers and matrices of a member are made when it is first used
@@ -172,12 +174,14 @@ contains
          self%newton(k) = newton_solver_type()
       end do
       self%ready = .false.
-      if (allocated(self%f0)) deallocate (self%f0, self%g0, self%u_start)
-      allocate (self%f0(n), self%g0(n), self%u_start(n))
+      call sized(self%f0, n, what, stat)
+      call sized(self%g0, n, what, stat)
+      call sized(self%u_start, n, what, stat)
       call forget_start(self)
       associate (system => self%system)
-         if (allocated(system%f1)) deallocate (system%f1, system%g1, system%stiff_part)
-         allocate (system%f1(n), system%g1(n), system%stiff_part(n))
+         call sized(system%f1, n, what, stat)
+         call sized(system%g1, n, what, stat)
+         call sized(system%stiff_part, n, what, stat)
          do k = 1, size(system%known)
             if (allocated(system%known(k)%values)) deallocate (system%known(k)%values)
          end do
@@ -186,6 +190,7 @@ contains
          if (allocated(system%jac0)) deallocate (system%jac0)
          if (allocated(system%jac_g1)) deallocate (system%jac_g1)
       end associate
+      if (stat%code /= status_ok) self%n = 0
    end subroutine semi_implicit_prepare
 
    !> The Newton solver and the matrices of `member`, made on its first use: si-t-1
@@ -210,13 +215,13 @@ contains
             call make_matrix(system%jac_g0)
          end if
          if (member == si_t_2_paper) call make_matrix(system%jac0)
-         if (.not. allocated(system%known(member)%values)) allocate (system%known(member)%values(self%n))
+         call sized(system%known(member)%values, self%n, "the work arrays of a semi-implicit Taylor scheme", stat)
       end associate
       self%ready(member) = stat%code == status_ok
    contains
       subroutine make_matrix(matrix)
          class(matrix_type), allocatable, intent(inout) :: matrix
-         if (.not. allocated(matrix)) call new_matrix(matrix, self%n, self%structure, stat)
+         if (.not. allocated(matrix) .and. stat%code == status_ok) call new_matrix(matrix, self%n, self%structure, stat)
       end subroutine make_matrix
    end subroutine make_member
 
@@ -447,6 +452,7 @@ contains
             call add_si_t_2_blocks(self%jac_g0)
          else
             if (.not. allocated(self%jac_g1)) call new_matrix(self%jac_g1, size(u), self%jac_g0%structure(), stat)
+            if (stat%code /= status_ok) return
             call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
             call add_si_t_2_blocks(self%jac_g1)
          end if
