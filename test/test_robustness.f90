@@ -9,11 +9,11 @@ module test_robustness
       integrator_options_type, integration_stats_type, step_history_type, write_history_csv, status_ok, &
       status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
       status_evaluation_failed, status_newton_not_converged, status_newton_diverged, matrix_structure_type, &
-      band_structure, integrator_type, integrate_fixed, status_step_underflow
+      band_structure, dense_structure, integrator_type, integrate_fixed, status_step_underflow
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
-   use taylorode_base_strings, only: format_real, fixed_length_real
+   use taylorode_base_strings, only: format_real, fixed_length_real, format_integer
    use taylorode_interfaces_legacy, only: legacy_solve
-   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite
    use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
       c_associated
    !$ use omp_lib, only: omp_get_max_threads
@@ -67,6 +67,20 @@ module test_robustness
       procedure :: jacobian_structure => declared_structure
    end type declared_band_type
 
+   !> u' = -u (f) - 2u (g), dg/dU analytic with its entry (row, 1) replaced by `bad`
+   !> (NaN or Inf) for t > t_bad (df/dU by differences); f and g stay finite. Dense, or
+   !> band (1, 1)
+   type, extends(decay_base_type) :: bad_jacobian_type
+      integer :: row = 1
+      real(dp) :: t_bad = 0.5_dp, bad = 0.0_dp
+      logical :: band = .false.
+   contains
+      procedure :: g => bad_g
+      procedure :: jac_g => bad_jac_g
+      procedure :: jac_g_band => bad_jac_g_band
+      procedure :: jacobian_structure => bad_structure
+   end type bad_jacobian_type
+
    !> Van der Pol without Jacobians (forward differences), mu = 10
    type, extends(ode_problem_fd) :: vdp_differences_type
    contains
@@ -95,6 +109,8 @@ contains
          new_unittest("pure-relative-tolerance", test_pure_relative), &
          new_unittest("tolerance-below-roundoff", test_tolerance_below_roundoff), &
          new_unittest("nonfinite-reported-as-such", test_nonfinite_reported), &
+         new_unittest("nan-jacobian-is-nonfinite", test_nan_jacobian), &
+         new_unittest("inf-jacobian-is-nonfinite", test_inf_jacobian), &
          new_unittest("no-allocation-per-step", test_no_allocation_per_step), &
          new_unittest("evaluation-rejected", test_evaluation_rejected), &
          new_unittest("command-line-bounded", test_command_line_bounds), &
@@ -730,6 +746,79 @@ contains
       end do
    end subroutine test_nonfinite_reported
 
+   !> A Jacobian that is NaN at some state is status_nonfinite, not a Newton failure.
+   subroutine test_nan_jacobian(error)
+      type(error_type), allocatable, intent(out) :: error
+      call check_bad_jacobian(error, ieee_value(1.0_dp, ieee_quiet_nan), "NaN")
+   end subroutine test_nan_jacobian
+
+   !> A Jacobian that is Inf at some state is status_nonfinite, not a Newton failure.
+   subroutine test_inf_jacobian(error)
+      type(error_type), allocatable, intent(out) :: error
+      call check_bad_jacobian(error, ieee_value(1.0_dp, ieee_positive_inf), "Inf")
+   end subroutine test_inf_jacobian
+
+   !> Every implicit scheme on u' = -3u whose dg/dU has a `bad` entry for t > 0.5 (f
+   !> and g finite; Newton matrices made afresh at each solve, so that each scheme
+   !> evaluates the Jacobian there): status_nonfinite with a message that names the
+   !> Jacobian, the last good state (the exact solution at stats%t_reached, which lies
+   !> near 0.5) and its statistics. Through each linear solver: n = 1 (the written-out
+   !> small LU), n = 30 dense (LAPACK; the entry below the diagonal, where only L holds
+   !> it), n = 30 band (the written-out band LU, the entry below the diagonal too).
+   !> Before: status_newton_diverged (with Inf, si-t-1 even accepted its steps: a pivot
+   !> of -Inf made every increment 0).
+   subroutine check_bad_jacobian(error, bad, word)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), intent(in) :: bad
+      character(len=*), intent(in) :: word
+      character(len=*), parameter :: names(6) = [character(len=10) :: "si-t-1", "si-t-2", "i-t-1", "i-t-2", &
+         "imex-rk21", "radau5"]
+      character(len=*), parameter :: solvers(3) = [character(len=12) :: "small LU", "dense LAPACK", "band LU"]
+      type(bad_jacobian_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp), allocatable :: u(:)
+      character(len=:), allocatable :: label
+      integer :: k, solver
+      problem%bad = bad
+      do solver = 1, size(solvers)
+         select case (solver)
+         case (1)
+            u = [1.0_dp]
+            problem%row = 1
+            problem%band = .false.
+         case (2)
+            u = [(1.0_dp, k=1, 30)]
+            problem%row = 30
+            problem%band = .false.
+         case default
+            u = [(1.0_dp, k=1, 30)]
+            problem%row = 2
+            problem%band = .true.
+         end select
+         do k = 1, size(names)
+            label = word//" Jacobian, "//trim(names(k))//", "//trim(solvers(solver))
+            call new_scheme(trim(names(k)), scheme, stat)
+            u = 1.0_dp
+            ! (matrices not kept: radau5 would keep its Jacobian from before t_bad throughout)
+            call integrate(problem, scheme, 0.0_dp, 2.0_dp, u, integrator_options_type(reuse_newton_matrix=.false.), &
+               stats, stat)
+            call check(error, stat%code, status_nonfinite, label//": "//stat_message(stat))
+            if (allocated(error)) return
+            call check(error, index(stat_message(stat), "Jacobian") > 0, label//": "//stat_message(stat))
+            if (allocated(error)) return
+            call check(error, stats%t_reached > 0.3_dp .and. stats%t_reached < 0.8_dp .and. &
+               stats%rejected_nonfinite > 0 .and. stats%accepted_steps > 0, label//": stopped at t = "// &
+               format_integer(nint(1000*stats%t_reached))//"/1000 or without counting")
+            if (allocated(error)) return
+            call check(error, all(abs(u - exp(-3.0_dp*stats%t_reached)) <= 1.0e-4_dp), label// &
+               ": not the last good state")
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine check_bad_jacobian
+
    !> (11) The heap allocations of an integration do not grow with its number of steps:
    !> every scheme, finite-difference Jacobians (dense and grouped band) and failed
    !> attempts included. Compared: [0, 3] against [0, 30] (far more steps).
@@ -1166,5 +1255,45 @@ contains
             index(stat_message(stat), words) > 0, "expected """//words//""" in: "//stat_message(stat))
       end subroutine expect
    end subroutine test_messages_legible
+
+   subroutine bad_g(self, t, u, dudt)
+      class(bad_jacobian_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -2.0_dp*u
+   end subroutine bad_g
+
+   subroutine bad_jac_g(self, t, u, jac)
+      class(bad_jacobian_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      integer :: i
+      jac = 0.0_dp
+      do i = 1, size(u)
+         jac(i, i) = -2.0_dp
+      end do
+      if (t > self%t_bad) jac(self%row, 1) = self%bad
+   end subroutine bad_jac_g
+
+   !> Band (1, 1): entry (i, j) in band(2 + i - j, j)
+   subroutine bad_jac_g_band(self, t, u, band)
+      class(bad_jacobian_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      band = 0.0_dp
+      band(2, :) = -2.0_dp
+      if (t > self%t_bad) band(2 + self%row - 1, 1) = self%bad
+   end subroutine bad_jac_g_band
+
+   function bad_structure(self, n) result(structure)
+      class(bad_jacobian_type), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      if (self%band) then
+         structure = band_structure(1, 1)
+      else
+         structure = dense_structure()
+      end if
+   end function bad_structure
 
 end module test_robustness

@@ -19,7 +19,7 @@ module taylorode_base_status
    integer, parameter :: status_invalid_argument = 1
    !> Arrays passed together do not have matching sizes
    integer, parameter :: status_size_mismatch = 2
-   !> The state or a right-hand side value is NaN or infinite
+   !> The state, a right-hand side value or a Jacobian is NaN or infinite
    integer, parameter :: status_nonfinite = 3
    !> The Newton iteration matrix is singular (LAPACK dgetrf info > 0)
    integer, parameter :: status_singular_matrix = 4
@@ -136,7 +136,7 @@ contains
       case (status_ok); text = "success"
       case (status_invalid_argument); text = "an argument or option is out of its valid range"
       case (status_size_mismatch); text = "arrays passed together do not have matching sizes"
-      case (status_nonfinite); text = "a value became NaN or Inf"
+      case (status_nonfinite); text = "a value (of f, g, a Jacobian or the state) became NaN or Inf"
       case (status_singular_matrix); text = "the Newton iteration matrix is singular (reduce the step size)"
       case (status_newton_diverged); text = "the Newton iteration diverged"
       case (status_newton_not_converged); text = "the Newton iteration did not converge within the iteration limit"

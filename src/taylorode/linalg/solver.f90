@@ -11,17 +11,18 @@
 module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
-      status_singular_matrix
+      status_singular_matrix, status_nonfinite
    use taylorode_base_memory, only: out_of_memory, real_bytes, integer_bytes
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, new_matrix
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, &
       small_lu_factor, small_lu_solve, small_lu_max_order, narrow_band_lu_factor, narrow_band_lu_solve, &
       narrow_band_max_width
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
-   public :: linear_solver_type, new_linear_solver
+   public :: linear_solver_type, new_linear_solver, finite_diagonal
 
    !> LU factorization with partial pivoting of a matrix assembled in place
    type :: linear_solver_type
@@ -40,6 +41,8 @@ module taylorode_linalg_solver
       procedure :: factor
       !> x = A^(-1) x with the factors
       procedure :: solve
+      !> Whether every entry of the matrix (of its factors, once factored) is finite
+      procedure :: finite
    end type linear_solver_type
 
 contains
@@ -66,11 +69,13 @@ contains
    end subroutine new_linear_solver
 
    !> Factor the assembled matrix in place (dgetrf or dgbtrf). Failures carry their
-   !> code only (no message is built): status_singular_matrix for a zero pivot.
+   !> code only (no message is built): status_nonfinite for NaN or Inf on U's diagonal
+   !> (where a Jacobian that is NaN or Inf leaves it: n tests, not a pass over the
+   !> matrix), else status_singular_matrix for a zero pivot.
    subroutine factor(self, stat)
       !> The solver
       class(linear_solver_type), intent(inout) :: self
-      !> status_singular_matrix when a pivot is exactly zero
+      !> status_nonfinite or status_singular_matrix
       type(status_type), intent(inout) :: stat
       integer :: info
       select type (a => self%matrix)
@@ -94,12 +99,63 @@ contains
          info = -1
       end select
       self%factored = info == 0
-      if (info > 0) then
+      if (info >= 0 .and. .not. finite_pivots(self)) then
+         self%factored = .false.
+         call set_code(stat, status_nonfinite)
+      else if (info > 0) then
          call set_code(stat, status_singular_matrix)
       else if (info < 0) then
          call set_code(stat, status_invalid_argument)
       end if
    end subroutine factor
+
+   !> Whether the diagonal of the factor U is finite. NaN or Inf in the matrix spreads
+   !> through the elimination onto it, except an entry that stays in L (its row of U
+   !> being zero beyond the diagonal, where the updates skip it): that one shows in a
+   !> solve, which `finite` then explains.
+   logical function finite_pivots(self)
+      class(linear_solver_type), intent(in) :: self
+      integer :: k
+      finite_pivots = .false.
+      select type (a => self%matrix)
+      type is (dense_matrix_type)
+         finite_pivots = finite_diagonal(a%a)
+         return
+      type is (band_matrix_type)
+         do k = 1, a%n
+            if (.not. ieee_is_finite(a%ab(a%diagonal, k))) return
+         end do
+      end select
+      finite_pivots = .true.
+   end function finite_pivots
+
+   !> Whether the diagonal of a square matrix is finite: of LU factors, whether their
+   !> pivots are (see `factor`).
+   pure logical function finite_diagonal(a)
+      !> The matrix
+      real(dp), intent(in) :: a(:, :)
+      integer :: k
+      finite_diagonal = .false.
+      do k = 1, size(a, 1)
+         if (.not. ieee_is_finite(a(k, k))) return
+      end do
+      finite_diagonal = .true.
+   end function finite_diagonal
+
+   !> Whether every stored entry of the matrix, or of its factors, is finite: a pass over
+   !> the matrix, for a solve that came out NaN or Inf from finite data (a Jacobian that
+   !> is NaN or Inf, not a diverging iteration).
+   logical function finite(self)
+      !> The solver
+      class(linear_solver_type), intent(in) :: self
+      finite = .true.
+      select type (a => self%matrix)
+      type is (dense_matrix_type)
+         finite = all(ieee_is_finite(a%a))
+      type is (band_matrix_type)
+         finite = all(ieee_is_finite(a%ab))
+      end select
+   end function finite
 
    !> Solve A x = b with the factors; x holds b on entry.
    subroutine solve(self, x, stat)

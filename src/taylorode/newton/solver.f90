@@ -282,7 +282,8 @@ contains
    !> A failure is reported by its code alone (no message is built, nothing is
    !> allocated): status_singular_matrix, status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
-   !> NaN or Inf) or status_evaluation_failed (the problem rejected an evaluation).
+   !> NaN or Inf, or the Newton matrix did: a Jacobian that is NaN or Inf) or
+   !> status_evaluation_failed (the problem rejected an evaluation).
    subroutine solve(self, system, problem, h, settings, u, counters, stat)
       !> The solver
       class(newton_solver_type), intent(inout) :: self
@@ -363,8 +364,14 @@ contains
          do i = 1, m
             u(i) = u(i) + self%increment(i)
             if (.not. ieee_is_finite(u(i))) then
+               ! from a finite residual: NaN or Inf in the factors (a Jacobian that is NaN
+               ! or Inf, in L where U's diagonal did not show it), else divergence
+               if (self%kept(slot)%linear%finite()) then
+                  call set_code(stat, status_newton_diverged)
+               else
+                  call set_code(stat, status_nonfinite)
+               end if
                self%kept(slot)%linear%factored = .false.
-               call set_code(stat, status_newton_diverged)
                return
             end if
             size_now = max(size_now, abs(self%increment(i))*self%inverse_tolerance(i))

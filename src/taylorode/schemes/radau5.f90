@@ -61,7 +61,7 @@ module taylorode_schemes_radau5
       status_newton_diverged, status_newton_not_converged
    use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, new_matrix, storage_dense
-   use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
+   use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver, finite_diagonal
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
    use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
    use taylorode_problem_ode, only: ode_problem
@@ -424,6 +424,9 @@ contains
          end select
          call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
+         ! a Jacobian that is NaN or Inf leaves NaN or Inf among the pivots (see
+         ! linear_solver_type%factor)
+         if (.not. finite_diagonal(self%small_matrix)) call set_code(stat, status_nonfinite)
       else
          call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
          call self%real_solver%matrix%add_identity(real_eigenvalue/h)
@@ -437,6 +440,18 @@ contains
       self%factored = .true.
       self%h_factored = h
    end subroutine factor_matrices
+
+   !> Whether the factors of both Newton matrices hold finite values only (a pass over
+   !> them, after a solve that came out NaN or Inf from finite F).
+   logical function finite_factors(self)
+      type(radau5_type), intent(in) :: self
+      if (self%small) then
+         finite_factors = all(ieee_is_finite(self%small_matrix))
+      else
+         finite_factors = self%real_solver%finite()
+      end if
+      finite_factors = finite_factors .and. self%complex_solver%finite()
+   end function finite_factors
 
    !> x = ((gamma/h) I - J)^(-1) x with the kept factors.
    subroutine solve_real(self, x, stat)
@@ -577,7 +592,8 @@ contains
          end do
          dyno = sqrt(dyno/real(3*n, dp))
          if (.not. (dyno <= huge(1.0_dp))) then
-            call fail(status_newton_diverged)
+            ! from finite F: NaN or Inf in the factors (a Jacobian that is NaN or Inf), else divergence
+            call fail(merge(status_newton_diverged, status_nonfinite, finite_factors(self)))
             return
          end if
          if (newt > 1 .and. newt < limit) then
