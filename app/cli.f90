@@ -17,7 +17,8 @@ module app_cli
    private
 
    public :: request_type, read_arguments, parse_command_line, check_request, join
-   public :: version, default_budget, default_vdp_budget, default_accuracy_budget, ensemble_t_end, bench_problem_names
+   public :: version, default_budget, default_table_budget, default_vdp_budget, default_accuracy_budget, &
+      default_repeats, default_table_repeats, ensemble_t_end, bench_problem_names
 
    !> Version of the app and the library
    character(len=*), parameter :: version = "0.2.0"
@@ -29,8 +30,14 @@ module app_cli
       "--mu", "--tend", "--split", "--rtol", "--atol", "--norm", "--controller", "--h0", "--hmax", &
       "--history", "--dense", "--budget", "--repeats", "--problem", "--schemes", "--tols", "--grid", &
       "--estimate", "--settings", "--problems", "--min-time", "--refs", "--csv", "--members", "--threads"]
-   !> Step budget per run of table, sweep and bench unless --budget (or --full for table)
+   !> Step budget per run of sweep and bench unless --budget
    integer(i8), parameter :: default_budget = 2000000_i8
+   !> Step budget per run of table unless --budget or --full: the paper's runs take at most
+   !> 160,000 steps; the two that need tens of millions here stop at it and say where
+   integer(i8), parameter :: default_table_budget = 200000_i8
+   !> Timing runs for the medians unless --repeats (table: its runs are 0.1 s each, and
+   !> the main job stays within seconds)
+   integer, parameter :: default_repeats = 5, default_table_repeats = 3
    !> Step budget of a vdp run (and its reference run) unless --budget
    integer(i8), parameter :: default_vdp_budget = 10000000_i8
    !> Step budget per run of accuracy unless --budget (the accuracy suite's)
@@ -75,8 +82,8 @@ module app_cli
       logical :: full = .false.
       !> Step budget per run (--budget); 0 until given
       integer(i8) :: budget = 0
-      !> Timing repetitions for the median (--repeats)
-      integer :: repeats = 5
+      !> Timing repetitions for the median (--repeats); 0 until given
+      integer :: repeats = 0
       !> sweep: problem, schemes and tolerance range (decades from tol_high down to tol_low)
       character(len=:), allocatable :: problem
       character(len=16), allocatable :: schemes(:)
@@ -219,7 +226,14 @@ contains
          call set_status(stat, status_invalid_argument, "--full runs without a budget: drop --budget or --full")
          return
       end if
-      if (request%budget == 0) request%budget = merge(default_vdp_budget, default_budget, request%command == "vdp")
+      if (request%budget == 0) then
+         select case (request%command)
+         case ("vdp"); request%budget = default_vdp_budget
+         case ("table"); request%budget = default_table_budget
+         case default; request%budget = default_budget
+         end select
+      end if
+      if (request%repeats == 0) request%repeats = merge(default_table_repeats, default_repeats, request%command == "table")
       request%tols = [(request%tol_high/10.0_dp**i, i = 0, nint(log10(request%tol_high/request%tol_low)))]
       stat%code = status_ok
    end subroutine parse_command_line

@@ -3,9 +3,9 @@ module app_help
    use taylorode, only: scheme_names
    use taylorode_testset, only: test_problem_names
    use taylorode_analysis, only: accuracy_case_names
-   use taylorode_base_strings, only: format_count, format_fixed
-   use app_cli, only: version, default_budget, default_vdp_budget, default_accuracy_budget, ensemble_t_end, &
-      bench_problem_names, join
+   use taylorode_base_strings, only: format_count, format_fixed, format_integer
+   use app_cli, only: version, default_budget, default_table_budget, default_vdp_budget, default_accuracy_budget, &
+      default_repeats, default_table_repeats, ensemble_t_end, bench_problem_names, join
    implicit none
    private
 
@@ -47,10 +47,11 @@ contains
          text = "taylorode table: the paper's Table 1 (Van der Pol mu = 1000, t in [0, 3000]) reproduced"//nl// &
             "  every scheme of the paper, both initial conditions, plus si-t-2, radau5 and the stiff"//nl// &
             "  splitting; paper's step counts and CPU seconds beside ours"//nl// &
-            "  --budget N    step budget per run (default "//format_count(default_budget)// &
+            "  --budget N    step budget per run (default "//format_count(default_table_budget)// &
             "); capped runs say how far they got"//nl// &
             "  --full        no budget: si-t-2-paper and imex-rk21 need ~50 million steps each"//nl// &
-            "  --repeats N   timing runs for the median (default 5, runs over 1 s once)"//nl// &
+            "  --repeats N   timing runs for the median (default "//format_integer(default_table_repeats)// &
+            ", runs over 1 s once)"//nl// &
             "  --out DIR     also write DIR/table1.csv (--force to overwrite)"
       case ("accuracy")
          text = "taylorode accuracy: the accuracy each scheme achieves against the tolerance on the test set"//nl// &
@@ -69,7 +70,7 @@ contains
             "  --schemes A,B,...  schemes to compare (default si-t-1,si-t-2,i-t-1,i-t-2,imex-rk21,radau5)"//nl// &
             "  --tols HIGH:LOW    rtol = atol from HIGH down to LOW by decades (default 1e-2:1e-8)"//nl// &
             "  --budget N    step budget per run (default "//format_count(default_budget)//")"//nl// &
-            "  --repeats N   timing runs for the median (default 5)"//nl// &
+            "  --repeats N   timing runs for the median (default "//format_integer(default_repeats)//")"//nl// &
             "  --out DIR     also write DIR/sweep.csv (--force to overwrite)"
       case ("stability")
          text = "taylorode stability: stability functions checked against real steps, S1 regions, L-stability"//nl// &
@@ -114,7 +115,7 @@ contains
             "  --members N   members (default 64)"//nl// &
             "  --scheme NAME one of "//join(scheme_names)//" (default i-t-2)"//nl// &
             "  --threads T   threads of the threaded runs (default: as many as OpenMP gives)"//nl// &
-            "  --repeats N   runs of each kind for the medians (default 5)"
+            "  --repeats N   runs of each kind for the medians (default "//format_integer(default_repeats)//")"
       case default
          text = "taylorode "//version//": one-step Taylor schemes for stiff ODEs U' = f(U) + g(U)"//nl// &
             "usage: taylorode [COMMAND] [OPTIONS]     (no command: table)"//nl// &

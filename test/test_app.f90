@@ -162,6 +162,10 @@ contains
             "help of "//trim(commands(k))//" starts with its name")
          if (allocated(error)) return
       end do
+      call run_app("table --help", run)
+      call check(error, has_line(run%stdout, "step budget per run (default 200,000)") .and. &
+         has_line(run%stdout, "timing runs for the median (default 3,"), "the main job's budget and repeats")
+      if (allocated(error)) return
       call run_app("--help", run)
       call check(error, run%exit_status == 0 .and. has_line(run%stdout, "usage: taylorode"), "overview help")
    end subroutine test_help
