@@ -134,8 +134,11 @@ module taylorode_integrate_options
       !> Start Newton's method from the extrapolation of the last accepted step (the
       !> line through its two states); off: from the state at the start of the step
       logical :: extrapolate_newton_start = .true.
-      !> Consecutive failed attempts (Newton failure, NaN/Inf values) before giving up
-      integer :: max_failures = 10
+      !> Consecutive failed attempts (Newton failure, NaN/Inf values, a rejected
+      !> evaluation) before giving up; 0: no limit, as RADAU5 (a failed attempt is retried
+      !> with a smaller step until it succeeds or the step size falls below h_min or the
+      !> roundoff of t: status_step_underflow, the last failure named in the message)
+      integer :: max_failures = 0
       !> advance_scheme, advance_high or advance_low (with the embedded estimate; auto
       !> then means embedded)
       integer :: advance = advance_scheme
@@ -279,8 +282,8 @@ contains
          options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp))) then
          call invalid("newton_fraction must be in (0, 1) (or 0 for the scheme's default)"); return
       end if
-      if (options%max_failures < 1) then
-         call invalid("max_failures must be at least 1"); return
+      if (options%max_failures < 0) then
+         call invalid("max_failures must be >= 0 (0: no limit)"); return
       end if
       if (all(options%advance /= [advance_scheme, advance_high, advance_low])) then
          call invalid("advance must be advance_scheme, advance_high or advance_low"); return
