@@ -665,7 +665,7 @@ contains
       if (allocated(error)) return
       call expect_invalid(integrator_options_type(max_growth=inf), "max_growth")
       if (allocated(error)) return
-      call expect_invalid(integrator_options_type(max_newton_iterations=1), "max_newton_iterations")
+      call expect_invalid(integrator_options_type(max_newton_iterations=-1), "max_newton_iterations")
    contains
       subroutine expect_invalid(options, word)
          type(integrator_options_type), intent(in) :: options

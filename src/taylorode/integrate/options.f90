@@ -114,8 +114,9 @@ module taylorode_integrate_options
       real(dp) :: min_shrink = 0.2_dp
       !> Attempted steps allowed (accepted and rejected)
       integer(i8) :: max_steps = 1000000_i8
-      !> Newton iterations allowed per nonlinear system (at least 2)
-      integer :: max_newton_iterations = 10
+      !> Newton iterations allowed per nonlinear system (at least 1); 0: the scheme's
+      !> own, 7 for radau5 (RADAU5's NIT), 10 for the others
+      integer :: max_newton_iterations = 0
       !> Keep factored Newton matrices across steps while h changes by at most 20 %
       !> and Newton contracts fast (0.1 or better); off: one factorization per solve
       logical :: reuse_newton_matrix = .true.
@@ -274,9 +275,8 @@ contains
       if (options%max_steps < 1) then
          call invalid("max_steps must be at least 1"); return
       end if
-      if (options%max_newton_iterations < 2) then
-         call invalid("max_newton_iterations must be at least 2 (a kept Newton matrix needs a second "// &
-            "iteration to measure its contraction)"); return
+      if (options%max_newton_iterations < 0) then
+         call invalid("max_newton_iterations must be at least 1 (or 0 for the scheme's own)"); return
       end if
       if (.not. (options%newton_fraction == 0.0_dp .or. (finite_in(options%newton_fraction, 0.0_dp, 1.0_dp) .and. &
          options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp))) then

@@ -16,7 +16,7 @@ module taylorode_schemes_scheme
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type
    use taylorode_problem_ode, only: ode_problem
-   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance
+   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance, default_max_newton_iterations
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -84,6 +84,12 @@ module taylorode_schemes_scheme
       !> beyond what the stability function says (si-t-2: its h^2/2 J_f0 F0 evaluates the
       !> stiff g at the start explicitly); `propagated_error` says by how much
       logical :: amplifies_errors = .false.
+      !> Newton iterations per system when the options leave the limit to the scheme
+      !> (options%max_newton_iterations = 0): 10, radau5 7 (RADAU5's NIT)
+      integer :: newton_iterations = default_max_newton_iterations
+      !> Whether `refine_estimate` may give a second, filtered error estimate when the
+      !> embedded one fails the error test (radau5, as RADAU5's ESTRAD)
+      logical :: refines_estimate = .false.
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -113,6 +119,8 @@ module taylorode_schemes_scheme
       procedure :: step_error
       !> What an error of the state the step just taken ended in adds to the next step
       procedure :: propagated_error
+      !> A second estimate of the step's error when the first failed the error test
+      procedure :: refine_estimate
    end type scheme_type
 
    abstract interface
@@ -386,6 +394,27 @@ contains
       logical, intent(in) :: filtered
       propagated = 0.0_dp
    end subroutine propagated_error
+
+   !> A second estimate of the error of the step just taken (size h from t), asked for
+   !> when its embedded estimate `delta` failed the error test, for schemes that declare
+   !> `refines_estimate`: delta is replaced and `refined` set when the scheme has one for
+   !> this attempt (radau5 at the first step and on retries, as RADAU5). The default has
+   !> none.
+   subroutine refine_estimate(self, problem, t, h, delta, refined, stat)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Start and size of the step just taken
+      real(dp), intent(in) :: t, h
+      !> The estimate on entry, the refined one on exit when `refined`
+      real(dp), contiguous, intent(inout) :: delta(:)
+      !> Whether delta was replaced
+      logical, intent(out) :: refined
+      !> Outcome (an evaluation that failed)
+      type(status_type), intent(inout) :: stat
+      refined = .false.
+   end subroutine refine_estimate
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then
