@@ -44,6 +44,8 @@ module taylorode_integrate_integrator
    !> where the first of them happened, before giving up (when options%max_failures
    !> is 0: no limit on consecutive failures)
    integer, parameter :: trouble_limit = 10
+   !> First step relative to max(1, |t0|) when the initial data give none (RADAU5's 1e-6)
+   real(dp), parameter :: first_step_fallback = 1.0e-6_dp
 
    !> An integration that can be continued: `init` once, then `advance_to` as often as
    !> needed with the same problem type and scheme. Between calls the caller may
@@ -195,8 +197,9 @@ contains
 
    !> Check the sizes, times, initial state and options, prepare the scheme for the
    !> problem (forgetting what it kept from earlier integrations) and choose the first
-   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w; when either norm is tiny
-   !> 1e-6 max(1, |t0|), which stays above the roundoff of t0).
+   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w; when either norm is tiny, or
+   !> the problem has a mass matrix, 1e-6 max(1, |t0|), which stays above the roundoff
+   !> of t0).
    subroutine init(self, problem, scheme, t0, u0, options, stat)
       !> The integrator
       class(integrator_type), intent(inout) :: self
@@ -257,7 +260,10 @@ contains
       call self%stepper%start(self%n, scheme, options)
 
       self%h = options%h0
-      if (self%h == 0.0_dp) then
+      if (self%h == 0.0_dp .and. problem%has_mass) then
+         ! F is M U', not U': no estimate from it; RADAU5's first step (1e-6)
+         self%h = first_step_fallback*max(1.0_dp, abs(t0))
+      else if (self%h == 0.0_dp) then
          work_before = scheme%counters
          call evaluate_start(self, problem, scheme, t0, u0, self%stepper%delta, stat)
          call add_work(self%total, scheme%counters, work_before)
@@ -277,7 +283,7 @@ contains
       !> size (a zero state or derivative) h = 1e-6 max(1, |t0|).
       subroutine first_step_size()
          real(dp) :: second_derivative, limit, fallback
-         fallback = 1.0e-6_dp*max(1.0_dp, abs(t0))
+         fallback = first_step_fallback*max(1.0_dp, abs(t0))
          call self%stepper%set_weights(problem, options, u0, u0)
          size_u = self%stepper%weighted_norm(problem, options, u0)
          size_f = self%stepper%weighted_norm(problem, options, self%stepper%delta)

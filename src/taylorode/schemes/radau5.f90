@@ -52,6 +52,15 @@
 !> step at most the integrator's). What the integrator does not take from RADAU5:
 !> the first step size.
 !>
+!> Mass matrices: with a problem that declares a constant mass matrix M (`has_mass`:
+!> M U' = F, M possibly singular, the index-1 differential-algebraic systems RADAU5 is
+!> used for) the stage equations are M Z_i = h sum_j a_ij F(Y_j), the two Newton
+!> systems (gamma/h) M - J and ((alpha + i beta)/h) M - J, the Newton right-hand sides
+!> subtract M W instead of W, and the error estimate multiplies its stage part by M:
+!>   delta = ((gamma/h) M - J)^(-1) [F(t0, U0) + M (d1 Z1 + d2 Z2 + d3 Z3)/h],
+!> all as radau5.f does (its IJOB 3, 4 and 5). M is asked of the problem once per
+!> integration, in the storage of its Jacobian structure.
+!>
 !> Settings a caller may change after `new_radau5` (the legacy entry maps RADAU5's
 !> IWORK(4), WORK(3), WORK(5) and WORK(6) onto them): `zero_start` (Newton from zero
 !> stage increments instead of the extrapolated polynomial), `jacobian_reuse` (THET:
@@ -66,7 +75,7 @@ module taylorode_schemes_radau5
    use taylorode_base_status, only: status_type, set_code, status_ok, status_singular_matrix, &
       status_evaluation_failed, status_nonfinite, &
       status_newton_diverged, status_newton_not_converged
-   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, new_matrix, storage_dense
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
    use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
@@ -136,6 +145,13 @@ module taylorode_schemes_radau5
       logical :: small = .false.
       !> ((alpha + i beta)/h) I - J and its factors
       type(complex_solver_type) :: complex_solver
+      !> The problem's constant mass matrix M (with `with_mass`), in the Jacobian's storage
+      class(matrix_type), allocatable :: mass
+      !> M times the transformed stage increments W (with a mass matrix)
+      real(dp), allocatable :: mw(:, :)
+      !> Whether the problem has a mass matrix, and whether M has been asked for since
+      !> the restart
+      logical :: with_mass = .false., mass_loaded = .false.
       !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and F at the stages, then
       !> the Newton right-hand sides and increments of W
       real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
@@ -210,6 +226,7 @@ contains
       self%dense_degree = 3
       self%newton_iterations = newton_iteration_limit
       self%refines_estimate = .true.
+      self%solves_mass = .true.
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
    end function new_radau5
@@ -304,34 +321,64 @@ contains
       self%faccon = 1.0_dp
       self%faccon_raises = 0
       self%newton_count = 0
+      self%mass_loaded = .false.
    end subroutine radau_restart
 
-   !> Work arrays and matrices in the storage the problem declares.
+   !> Work arrays and matrices in the storage the problem declares (and the mass
+   !> matrix's, when the problem has one).
    subroutine radau_prepare(self, problem, n, stat)
       class(radau5_type), intent(inout) :: self
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
-      if (.not. self%resize(problem, n, stat)) return
-      call new_matrix(self%jac, n, self%structure, stat)
-      if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
-      if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
-      if (stat%code /= status_ok) then
-         self%n = 0
-         return
+      logical :: resized
+      resized = self%resize(problem, n, stat)
+      if (stat%code /= status_ok) return
+      if (resized) then
+         call new_matrix(self%jac, n, self%structure, stat)
+         if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
+         if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+         if (stat%code /= status_ok) then
+            self%n = 0
+            return
+         end if
+         self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
+         if (allocated(self%z)) then
+            deallocate (self%z, self%w, self%r, self%polynomial, self%u_start, self%rhs0, &
+               self%stage, self%estimate, self%stage_part)
+         end if
+         allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3))
+         allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%estimate(n), &
+            self%stage_part(n))
+         if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, &
+            self%small_inverse_diagonal)
+         if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
+         if (allocated(self%mass)) deallocate (self%mass)
+         call self%restart()
       end if
-      self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
-      if (allocated(self%z)) then
-         deallocate (self%z, self%w, self%r, self%polynomial, self%u_start, self%rhs0, &
-            self%stage, self%estimate, self%stage_part)
+      self%with_mass = problem%has_mass
+      self%mass_loaded = .false.
+      if (self%with_mass .and. .not. allocated(self%mass)) then
+         call new_matrix(self%mass, n, self%structure, stat)
+         if (stat%code /= status_ok) return
+         if (allocated(self%mw)) deallocate (self%mw)
+         allocate (self%mw(n, 3))
       end if
-      allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3))
-      allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%estimate(n), &
-         self%stage_part(n))
-      if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
-      if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
-      call self%restart()
    end subroutine radau_prepare
+
+   !> M from the problem, in the storage of its Jacobian structure (once per integration).
+   subroutine load_mass(self, problem)
+      type(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      select type (mass => self%mass)
+      type is (dense_matrix_type)
+         call problem%mass(mass%a)
+      type is (band_matrix_type)
+         call problem%mass_band(mass%ab(mass%fill + 1:, :))
+      end select
+      self%mass_loaded = .true.
+      self%factored = .false.
+   end subroutine load_mass
 
    subroutine radau_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(radau5_type), intent(inout) :: self
@@ -349,6 +396,7 @@ contains
       n = self%n
       self%retry_factor = failure_halving
       self%iteration_limit = newton%max_iterations
+      if (self%with_mass .and. .not. self%mass_loaded) call load_mass(self, problem)
       call begin_step()
       if (.not. self%jacobian_valid) then
          call evaluate_jac(problem, t, u0, self%jac, self%counters)
@@ -417,7 +465,8 @@ contains
 
    end subroutine radau_advance
 
-   !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J.
+   !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J (M instead of I with a mass
+   !> matrix).
    subroutine factor_matrices(self, h, stat)
       type(radau5_type), intent(inout) :: self
       real(dp), intent(in) :: h
@@ -432,18 +481,32 @@ contains
                do i = 1, self%n
                   self%small_matrix(i, j) = -jac%a(i, j)
                end do
-               self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
+               if (.not. self%with_mass) self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
             end do
          end select
+         if (self%with_mass) then
+            select type (mass => self%mass)
+            type is (dense_matrix_type)
+               self%small_matrix = self%small_matrix + (real_eigenvalue/h)*mass%a
+            end select
+         end if
          call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
       else
          call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
-         call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+         if (self%with_mass) then
+            call self%real_solver%matrix%add_scaled(real_eigenvalue/h, self%mass, stat)
+         else
+            call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+         end if
          if (stat%code == status_ok) call self%real_solver%factor(stat)
       end if
       if (stat%code /= status_ok) return
-      call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
+      if (self%with_mass) then
+         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat, self%mass)
+      else
+         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
+      end if
       if (stat%code == status_ok) call self%complex_solver%factor(stat)
       self%counters%lu_factorizations = self%counters%lu_factorizations + 1
       if (stat%code /= status_ok) return
@@ -481,7 +544,7 @@ contains
       integer :: n, i, s, newt, limit
       real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
       real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, magnitude, stage_time(3)
-      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:)
+      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), wm(:, :)
 
       n = self%n
       u0 => self%u_start
@@ -489,6 +552,9 @@ contains
       w => self%w
       r => self%r
       stage => self%stage
+      ! W in the Newton right-hand sides, or M W with a mass matrix
+      wm => self%w
+      if (self%with_mass) wm => self%mw
       if (self%have_polynomial .and. .not. self%zero_start) then
          c3q = h/self%h_polynomial
          c1q = c1*c3q
@@ -546,6 +612,12 @@ contains
             call fail(status_evaluation_failed)
             return
          end if
+         if (self%with_mass) then
+            do s = 1, 3
+               self%mw(:, s) = 0.0_dp
+               call self%mass%multiply_add(1.0_dp, w(:, s), self%mw(:, s))
+            end do
+         end if
          ! the sum of |F| is finite unless some F is NaN or Inf (or all are so large that
          ! the sum overflows): one test instead of one per value, a quarter of the cost
          magnitude = 0.0_dp
@@ -554,9 +626,9 @@ contains
             f2 = r(i, 2)
             f3 = r(i, 3)
             magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
-            r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*w(i, 1)
-            r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*w(i, 2) + betan*w(i, 3)
-            r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*w(i, 3) - betan*w(i, 2)
+            r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*wm(i, 1)
+            r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*wm(i, 2) + betan*wm(i, 3)
+            r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*wm(i, 3) - betan*wm(i, 2)
          end do
          if (.not. ieee_is_finite(magnitude)) then
             call fail(status_nonfinite)
@@ -664,8 +736,8 @@ contains
       a3 = a2 - acont3
    end subroutine collocation_polynomial
 
-   !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h] (the
-   !> stage part kept for a filtered estimate).
+   !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h] (M times the
+   !> stage part with a mass matrix; the stage part kept for a filtered estimate).
    subroutine estimate_error(self, problem, t, h, stat)
       type(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -683,8 +755,18 @@ contains
       hee1 = dd1/h
       hee2 = dd2/h
       hee3 = dd3/h
+      if (self%with_mass) then
+         do i = 1, self%n
+            self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+            self%stage_part(i) = 0.0_dp
+         end do
+         call self%mass%multiply_add(1.0_dp, self%stage, self%stage_part)
+      else
+         do i = 1, self%n
+            self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+         end do
+      end if
       do i = 1, self%n
-         self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
          self%estimate(i) = self%stage_part(i) + self%rhs0(i)
       end do
       call solve_real(self, self%estimate, stat)

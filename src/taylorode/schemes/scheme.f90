@@ -87,6 +87,9 @@ module taylorode_schemes_scheme
       !> Newton iterations per system when the options leave the limit to the scheme
       !> (options%max_newton_iterations = 0): 10, radau5 7 (RADAU5's NIT)
       integer :: newton_iterations = default_max_newton_iterations
+      !> Whether it solves M U' = F with a problem's constant mass matrix (radau5); the
+      !> others refuse a problem that declares one
+      logical :: solves_mass = .false.
       !> Whether `refine_estimate` may give a second, filtered error estimate when the
       !> embedded one fails the error test (radau5, as RADAU5's ESTRAD)
       logical :: refines_estimate = .false.
@@ -418,7 +421,8 @@ contains
 
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then
-   !> reallocates). An impossible structure leaves stat set and returns false.
+   !> reallocates). An impossible structure, or a mass matrix the scheme does not
+   !> solve, leaves stat set and returns false.
    logical function resize(self, problem, n, stat)
       !> The scheme
       class(scheme_type), intent(inout) :: self
@@ -430,6 +434,11 @@ contains
       type(status_type), intent(inout) :: stat
       type(matrix_structure_type) :: structure
       resize = .false.
+      if (problem%has_mass .and. .not. self%solves_mass) then
+         call set_status(stat, status_invalid_argument, "the problem has a mass matrix (M U' = F), which only "// &
+            "radau5 solves; "//self%name//" does not")
+         return
+      end if
       call problem%checked_structure(n, structure, stat)
       if (stat%code /= status_ok) return
       resize = .not. (self%n == n .and. self%structure%storage == structure%storage .and. &
