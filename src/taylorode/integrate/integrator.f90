@@ -486,6 +486,8 @@ contains
             select case (outcome)
             case (attempt_rejected_error)
                call_stats%rejected_error = call_stats%rejected_error + 1
+               if (self%total%accepted_steps + call_stats%accepted_steps == 0) &
+                  call_stats%rejected_error_start = call_stats%rejected_error_start + 1
             case (attempt_rejected_constraint)
                call_stats%rejected_constraint = call_stats%rejected_constraint + 1
             case default
@@ -790,6 +792,7 @@ contains
       total%t_reached = call_stats%t_reached
       total%accepted_steps = total%accepted_steps + call_stats%accepted_steps
       total%rejected_error = total%rejected_error + call_stats%rejected_error
+      total%rejected_error_start = total%rejected_error_start + call_stats%rejected_error_start
       total%rejected_newton = total%rejected_newton + call_stats%rejected_newton
       total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
       total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation

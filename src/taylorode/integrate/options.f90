@@ -120,9 +120,9 @@ module taylorode_integrate_options
       !> Keep factored Newton matrices across steps while h changes by at most 20 %
       !> and Newton contracts fast (0.1 or better); off: one factorization per solve
       logical :: reuse_newton_matrix = .true.
-      !> Newton stops when its error is below this fraction of the weights w_i; 0 lets
-      !> the scheme choose (Hairer's FNEWT = max(10 eps / rtol, min(0.03, sqrt(rtol)));
-      !> with the paper's Newton test 1e-4)
+      !> Newton stops when its error is below this fraction of the weights w_i (usually
+      !> below 1: RADAU5's FNEWT, WORK(4)); 0 lets the scheme choose (Hairer's FNEWT =
+      !> max(10 eps / rtol, min(0.03, sqrt(rtol))); with the paper's Newton test 1e-4)
       real(dp) :: newton_fraction = 0.0_dp
       !> Newton's stop test estimates the error left from the contraction (RADAU5's
       !> test); off: the last increment must be below the tolerance (the paper's)
@@ -278,9 +278,9 @@ contains
       if (options%max_newton_iterations < 0) then
          call invalid("max_newton_iterations must be at least 1 (or 0 for the scheme's own)"); return
       end if
-      if (.not. (options%newton_fraction == 0.0_dp .or. (finite_in(options%newton_fraction, 0.0_dp, 1.0_dp) .and. &
-         options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp))) then
-         call invalid("newton_fraction must be in (0, 1) (or 0 for the scheme's default)"); return
+      if (.not. (options%newton_fraction == 0.0_dp .or. (finite_at_least(options%newton_fraction, 0.0_dp) .and. &
+         options%newton_fraction > 0.0_dp))) then
+         call invalid("newton_fraction must be finite and > 0 (or 0 for the scheme's default)"); return
       end if
       if (options%max_failures < 0) then
          call invalid("max_failures must be >= 0 (0: no limit)"); return
