@@ -607,8 +607,8 @@ contains
       real(dp), intent(in) :: x, y(:)
       integer, intent(in) :: n
       real(dp) :: x_copy, y_copy(n)
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       integer :: irtrn, nr, lrc, n_copy
       x_copy = x
       y_copy = y
@@ -629,8 +629,8 @@ contains
       class(legacy_observer_type), intent(inout) :: self
       type(accepted_step_type), intent(in) :: step
       logical, intent(inout) :: stop
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x_old, x_new, y_copy(size(step%u_end))
       integer :: irtrn, n, lrc, nr, first
       n = size(step%u_end)
@@ -684,8 +684,8 @@ contains
       procedure(fcn_interface) :: fcn
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: n
       call c_f_pointer(self%rpar, rpar, [1])
@@ -710,8 +710,8 @@ contains
       ! not contiguous: gfortran then copies even a contiguous actual argument; passed on
       ! to the user's explicit-shape DFY it is copied only when it is not contiguous
       real(dp), intent(out) :: jac(:, :)
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: n, ldfy
       call c_f_pointer(self%rpar, rpar, [1])
@@ -754,18 +754,33 @@ contains
       call call_fcn(self, self%fcn_g, t, u, dudt)
    end subroutine legacy_g
 
-   !> F = f + g: FCN alone in one call (TAYLORODE), or FCNF and FCNG added.
+   !> F = f + g: FCN alone in one call (TAYLORODE; the call written out here, the hot
+   !> path of radau5), or FCNF and FCNG added.
    subroutine legacy_rhs(self, t, u, dudt)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
-      integer :: i
-      call call_fcn(self, self%fcn_g, t, u, dudt)
-      if (.not. self%has_f) return
-      call call_fcn(self, self%fcn_f, t, u, self%g_work)
-      do i = 1, size(u)
-         dudt(i) = dudt(i) + self%g_work(i)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
+      real(dp) :: x
+      integer :: i, n
+      if (self%has_f .or. self%flag > 0) then
+         call call_fcn(self, self%fcn_g, t, u, dudt)
+         if (.not. self%has_f) return
+         call call_fcn(self, self%fcn_f, t, u, self%g_work)
+         do i = 1, size(u)
+            dudt(i) = dudt(i) + self%g_work(i)
+         end do
+         return
+      end if
+      call c_f_pointer(self%rpar, rpar, [1])
+      call c_f_pointer(self%ipar, ipar, [1])
+      x = t
+      n = size(u)
+      do i = 1, n
+         self%x_state(i) = u(i)
       end do
+      call self%fcn_g(n, x, self%x_state, dudt, rpar, ipar)
    end subroutine legacy_rhs
 
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
@@ -891,8 +906,8 @@ contains
    !> The user's MAS(N, AM, LMAS, RPAR, IPAR) into mass_work.
    subroutine call_mas(self)
       type(legacy_problem_type), intent(inout) :: self
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       integer :: n, lmas
       call c_f_pointer(self%rpar, rpar, [1])
       call c_f_pointer(self%ipar, ipar, [1])
