@@ -64,7 +64,7 @@ stamp="<sub>Measured $today with the code of commit $commit by \`make figures\` 
 } > "$blocks/machine.md"
 
 # ---------------------------------------------------------------- runs
-echo "figures: running the app ($app); about two minutes" >&2
+echo "figures: running the app ($app); about three minutes" >&2
 for scheme in si-t-1 si-t-2 i-t-1 i-t-2 radau5; do
   run vdp --scheme "$scheme" --history "$out/vdp_$scheme.csv" --force > "$out/vdp_$scheme.txt"
 done
@@ -78,6 +78,7 @@ run sweep --tols 1e-3:1e-7 --out "$out" --force > "$out/sweep.txt"
 run stability --grid 401 --out "$out" --force > "$out/stability.txt"
 extreme_status=0
 run extreme --out "$out" --force > "$out/extreme.txt" 2>/dev/null || extreme_status=$?
+run accuracy --out "$out" --force > "$out/accuracy.txt"
 fpm run --profile release --example convergence_study 2>/dev/null > "$out/convergence_study.txt"
 if [ "${FULL:-0}" = 1 ]; then
   echo "figures: FULL=1: table --full (a few minutes)" >&2
@@ -218,6 +219,23 @@ fi
   echo '```'
   [ "$extreme_status" -eq 0 ] || echo "\`taylorode extreme\` exits with status $extreme_status: a case above failed."
 } > "$blocks/extreme.md"
+
+# the accuracy report: the summary over the problems, then every problem's table
+{
+  echo "$stamp"
+  echo
+  echo '```'
+  sed -n '/^worst over the problems/,/^wrote /p' "$out/accuracy.txt" | grep -v '^wrote '
+  echo '```'
+  echo
+  echo '<details><summary>Every problem</summary>'
+  echo
+  echo '```'
+  sed -n '1,/^worst over the problems/p' "$out/accuracy.txt" | grep -v '^worst over the problems'
+  echo '```'
+  echo
+  echo '</details>'
+} > "$blocks/accuracy.md"
 
 # Replace each block of README.md with its new text (blocks not regenerated stay)
 for file in "$blocks"/*.md; do
