@@ -73,11 +73,7 @@ contains
       character(len=:), allocatable :: message
 
       do k = 1, cases
-         work = 0.0_dp
-         iwork = 0
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         h = 1.0e-6_dp
+         call fresh(x, y, h, rtol, atol, work, iwork)
          select case (k)
          case (1); iwork(2) = -5; label = "IWORK(2) = -5"
          case (2); iwork(3) = -1; label = "IWORK(3) = -1"
@@ -102,11 +98,7 @@ contains
          case (21); work(9) = -2.0_dp; label = "WORK(9) = -2"
          case (22); iwork(6:7) = [0, 1]; iwork(5) = 1; label = "IWORK(7) = 1"
          end select
-         x = 0.0_dp
-         y = [2.0_dp, -0.66_dp]
-         call legacy_solve("radau5", 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, 0, vdp_jacobian, 0, &
-            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, iwork, liwork, rpar, ipar, &
-            idid, message)
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
          call check(error, idid, -1, trim(label)//": IDID")
          if (allocated(error)) return
          call check(error, iwork(12) /= 0 .and. len(message) > 0 .and. x == 0.0_dp .and. y(1) == 2.0_dp, &
@@ -114,15 +106,9 @@ contains
          if (allocated(error)) return
       end do
       ! for the other schemes the tolerances keep their meaning: ATOL = 0 is allowed, < 0 not
-      work = 0.0_dp
-      iwork = 0
-      x = 0.0_dp
-      y = [2.0_dp, -0.66_dp]
-      rtol = 1.0e-4_dp
+      call fresh(x, y, h, rtol, atol, work, iwork)
       atol = -1.0_dp
-      call legacy_solve("i-t-2", 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, 0, vdp_jacobian, 0, &
-         vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, iwork, liwork, rpar, ipar, &
-         idid, message)
+      call solve_vdp("i-t-2", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
       call check(error, idid == -1 .and. index(message, "ATOL(1)") > 0, "i-t-2, ATOL = -1: "//message)
    end subroutine test_settings_checked
 
@@ -139,11 +125,7 @@ contains
       character(len=:), allocatable :: message
 
       do k = 1, cases
-         work = 0.0_dp
-         iwork = 0
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         h = 1.0e-6_dp
+         call fresh(x, y, h, rtol, atol, work, iwork)
          select case (k)
          case (1); iwork(2) = 50000; label = "IWORK(2) = 50000"
          case (2); iwork(3) = 4; label = "IWORK(3) = 4"
@@ -161,12 +143,8 @@ contains
          case (14); h = -1.0e-3_dp; label = "H = -1e-3"
          case (15); h = 0.0_dp; label = "H = 0"
          end select
-         x = 0.0_dp
-         y = [2.0_dp, -0.66_dp]
          rpar = 0.0_dp
-         call legacy_solve("radau5", 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, 0, vdp_jacobian, 0, &
-            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, first_step, 1, work, lwork, iwork, liwork, rpar, ipar, &
-            idid, message)
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message, output=.true.)
          call check(error, idid, 1, trim(label)//": "//message)
          if (allocated(error)) return
          call check(error, x, vdp_end, trim(label)//": X")
@@ -195,6 +173,7 @@ contains
       type(status_type) :: stat
       real(dp) :: x, y(2), u(2), h, rtol(2), atol(2), work(lwork), rpar(1), transformed
       integer :: iwork(liwork), ipar(1), idid, itol
+      character(len=:), allocatable :: message
 
       transformed = 0.1_dp*(1.0e-6_dp)**(2.0_dp/3.0_dp)
       options = integrator_options_type(rtol=transformed, atol=transformed, norm=norm_rms, h0=1.0e-6_dp, &
@@ -206,16 +185,8 @@ contains
       call check(error, stat%code, status_ok, stat_message(stat))
       if (allocated(error)) return
       do itol = 0, 1
-         work = 0.0_dp
-         iwork = 0
-         x = 0.0_dp
-         y = [2.0_dp, -0.66_dp]
-         h = 1.0e-6_dp
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         call legacy_solve("radau5", 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
-            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, iwork, liwork, rpar, ipar, &
-            idid)
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         call solve_vdp("radau5", x, y, h, rtol, atol, itol, work, iwork, rpar, ipar, idid, message)
          call check(error, idid, 1, "IDID")
          if (allocated(error)) return
          call check(error, all(y == u), "ITOL = "//format_integer(itol)//": TAYLORODE and integrate differ by "// &
@@ -239,19 +210,12 @@ contains
       type(error_type), allocatable, intent(out) :: error
       real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
       integer :: iwork(liwork), ipar(1), idid, k
+      character(len=:), allocatable :: message
 
       do k = 1, 2
-         work = 0.0_dp
-         iwork = 0
+         call fresh(x, y, h, rtol, atol, work, iwork)
          iwork(3) = merge(0, 2, k == 1)
-         x = 0.0_dp
-         y = [2.0_dp, -0.66_dp]
-         h = 1.0e-6_dp
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         call legacy_solve("radau5", 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, 0, vdp_jacobian, 0, &
-            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, iwork, liwork, rpar, ipar, &
-            idid)
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
          call check(error, idid, 1, "IDID")
          if (allocated(error)) return
          call check(error, iwork(20) > 2*iwork(16) .eqv. k == 1, "IWORK(3) = "//format_integer(iwork(3))// &
@@ -267,17 +231,11 @@ contains
       real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
       integer :: iwork(liwork), ipar(1), idid
       character(len=200) :: text
+      character(len=:), allocatable :: message
 
-      work = 0.0_dp
-      iwork = 0
+      call fresh(x, y, h, rtol, atol, work, iwork)
       iwork(2) = 20
-      x = 0.0_dp
-      y = [2.0_dp, -0.66_dp]
-      h = 1.0e-6_dp
-      rtol = 1.0e-6_dp
-      atol = 1.0e-6_dp
-      call legacy_solve("radau5", 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, 0, vdp_jacobian, 0, &
-         vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, iwork, liwork, rpar, ipar, idid)
+      call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
       call check(error, idid, -2, "IDID")
       if (allocated(error)) return
       call check(error, iwork(16), 21, "IWORK(16) at the budget")
@@ -430,6 +388,44 @@ contains
       jac(2, 1) = mu*(-2.0_dp*u(1)*u(2) - 1.0_dp)
       jac(2, 2) = mu*(1.0_dp - u(1)**2)
    end subroutine vdp_jac
+
+   !> A fresh call on Van der Pol: WORK(1:20) and IWORK(1:20) zero, X = 0, Y = (2, -0.66),
+   !> H = 1e-6, RTOL = ATOL = 1e-6
+   subroutine fresh(x, y, h, rtol, atol, work, iwork)
+      real(dp), intent(out) :: x, y(2), h, rtol(:), atol(:), work(:)
+      integer, intent(out) :: iwork(:)
+      work = 0.0_dp
+      iwork = 0
+      x = 0.0_dp
+      y = [2.0_dp, -0.66_dp]
+      h = 1.0e-6_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+   end subroutine fresh
+
+   !> TAYLORODE(scheme, ...) on Van der Pol over [0, vdp_end] with the analytic
+   !> Jacobian, dense, no mass matrix; SOLOUT = first_step when `output`, else none
+   subroutine solve_vdp(scheme_name, x, y, h, rtol, atol, itol, work, iwork, rpar, ipar, idid, message, output)
+      character(len=*), intent(in) :: scheme_name
+      real(dp), intent(inout) :: x, y(2), h, rtol(:), atol(:), work(:), rpar(:)
+      integer, intent(in) :: itol
+      integer, intent(inout) :: iwork(:), ipar(:)
+      integer, intent(out) :: idid
+      character(len=:), allocatable, intent(out) :: message
+      logical, intent(in), optional :: output
+      logical :: solout
+      solout = .false.
+      if (present(output)) solout = output
+      if (solout) then
+         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
+            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, first_step, 1, work, size(work), iwork, size(iwork), &
+            rpar, ipar, idid, message)
+      else
+         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
+            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, size(work), iwork, size(iwork), &
+            rpar, ipar, idid, message)
+      end if
+   end subroutine solve_vdp
 
    ! ----- the user's routines, as a RADAU5 user writes them -----
 
