@@ -62,11 +62,11 @@ contains
    !> default budget before), IWORK(3) < 0, IWORK(5:7) not adding up to N, index-2 or
    !> second-order structure (not supported), WORK(1) outside (1e-19, 1), WORK(2)
    !> outside (0.001, 1), WORK(3) >= 1, WORK(4) <= UROUND / RTOL, WORK(5) > 1, WORK(6) <
-   !> 1, WORK(8) > 1, WORK(9) < 1, RTOL <= 10 UROUND or ATOL = 0 (radau5), a NaN H, a
-   !> negative IWORK(11).
+   !> 1, WORK(8) > 1, WORK(9) < 1, RTOL <= 10 UROUND or ATOL = 0 (radau5), a NaN H or
+   !> WORK entry, a negative IWORK(11).
    subroutine test_settings_checked(error)
       type(error_type), allocatable, intent(out) :: error
-      integer, parameter :: cases = 22
+      integer, parameter :: cases = 23
       character(len=20) :: label
       real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
       integer :: iwork(liwork), ipar(2), idid, k
@@ -97,6 +97,7 @@ contains
          case (20); iwork(11) = -1; label = "IWORK(11) = -1"
          case (21); work(9) = -2.0_dp; label = "WORK(9) = -2"
          case (22); iwork(6:7) = [0, 1]; iwork(5) = 1; label = "IWORK(7) = 1"
+         case (23); work(2) = ieee_value(1.0_dp, ieee_quiet_nan); label = "WORK(2) = NaN"
          end select
          call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
          call check(error, idid, -1, trim(label)//": IDID")
@@ -344,7 +345,7 @@ contains
    subroutine test_messages(error)
       type(error_type), allocatable, intent(out) :: error
       integer, parameter :: reasons(*) = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, &
-         21, 22, 23, 31, 32, 33, 34, 35, 36, 37]
+         21, 22, 23, 24, 31, 32, 33, 34, 35, 36, 37]
       integer :: k, iwork(20)
       character(len=200) :: text
       do k = 1, size(reasons)

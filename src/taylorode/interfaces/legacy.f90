@@ -46,7 +46,7 @@ module taylorode_interfaces_legacy
    use taylorode_integrate_step, only: accepted_step_type, newton_form, hermite_degree
    use taylorode_integrate_observer, only: step_observer_type
    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_f_pointer, c_null_ptr
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
    implicit none
    private
 
@@ -59,7 +59,7 @@ module taylorode_interfaces_legacy
       reason_index_sum = 8, reason_index_high = 9, reason_second_order = 10, reason_second_order_unsupported = 11, &
       reason_safety = 12, reason_jacobian_reuse = 13, reason_newton_stop = 14, reason_hold = 15, &
       reason_step_factors = 16, reason_largest_step = 17, reason_bandwidths = 18, reason_mass_bandwidths = 19, &
-      reason_mass_scheme = 20, reason_scheme = 21, reason_flag = 22, reason_first_step = 23
+      reason_mass_scheme = 20, reason_scheme = 21, reason_flag = 22, reason_first_step = 23, reason_work_number = 24
    integer, parameter :: reason_budget = 31, reason_underflow = 32, reason_singular = 33, reason_newton = 34, &
       reason_nonfinite = 35, reason_evaluation = 36, reason_failed = 37
    !> RADAU5's defaults: step budget NMAX, rounding unit, first step for H = 0, step-size
@@ -353,6 +353,15 @@ contains
          reason = reason_scheme
          call new_scheme(scheme_name, scheme, scheme_stat)
          if (scheme_stat%code /= status_ok) return
+         ! WORK(1:9) and H must be numbers (RADAU5 does not check: NaN passes its tests)
+         reason = reason_work_number
+         do i = 1, 9
+            detail = i
+            if (ieee_is_nan(work(i))) return
+         end do
+         detail = 0
+         reason = reason_first_step
+         if (ieee_is_nan(h)) return
          ! WORK(1): the rounding unit (RADAU5's UROUND: tolerance and Newton checks, H = 0)
          reason = reason_uround
          uround = default_uround
@@ -486,8 +495,6 @@ contains
          reason = reason_flag
          if (iwork(11) < 0) return
          ! H: a guess; |H| <= 10 UROUND is RADAU5's 1e-6 for radau5, automatic for the others
-         reason = reason_first_step
-         if (.not. (abs(h) <= huge(1.0_dp) .or. abs(h) > huge(1.0_dp))) return
          first = abs(h)
          if (first <= 10.0_dp*uround) first = merge(default_first_step, 0.0_dp, radau)
          options%h0 = min(first, hmax)
@@ -588,6 +595,7 @@ contains
       case (reason_scheme); text = "unknown scheme name"
       case (reason_flag); text = "IWORK(11), the place of the evaluation flag in IPAR, must be >= 0"
       case (reason_first_step); text = "H must be a number"
+      case (reason_work_number); text = "WORK("//trim(number)//") must be a number (NaN is not a setting)"
       case (reason_budget); text = "the step budget IWORK(2) was spent before XEND (IDID = -2)"
       case (reason_underflow); text = "the step size fell below the roundoff of X (IDID = -3)"
       case (reason_singular); text = "the Newton matrix was singular repeatedly (IDID = -4)"
