@@ -32,11 +32,11 @@
 # CVODE, the reference of the ratios, down to 1e-11 (small) and 1e-8 (large), so that
 # the others' tightest runs lie between two of its runs. A peer solve stops after 3 CPU
 # seconds (the harness's -B; after three such stops the tighter tolerances are
-# skipped), twice the longest solve that completes (ARKODE on Van der Pol at 1e-9, 1.4
-# s): with 60 s a few runs that go nowhere (ARKODE and CVODE on Robertson at tol 1e-3)
-# took a minute each.
-# With PEERS, FLOOR, ROUNDS=3 and MIN_TIME=0.2: about 25 minutes on a 2-core machine
-# (see the machine block of the README for the last run's).
+# skipped), twice the longest solves that complete (ARKODE on Van der Pol at 1e-9 and on
+# E5 at 1e-8, 1.4 s; it stops ARKODE on E5 at 1e-9): with 60 s a few runs that go
+# nowhere (ARKODE and CVODE on Robertson at tol 1e-3) took a minute each.
+# With PEERS, FLOOR, ROUNDS=3 and MIN_TIME=0.2: about 18 minutes on a busy 2-core machine,
+# 16 of them the rounds (the machine block of the README gives the last run's).
 # CPU times depend on the machine and on whatever else runs: use a quiet machine.
 set -euo pipefail
 trap 'echo "figures: ERROR: line $LINENO failed (exit status $?): $BASH_COMMAND" >&2' ERR
@@ -445,7 +445,6 @@ done
 "$python" tools/plot.py "${plot_errors[@]}" "$out" "$png"
 echo "figures: README numbers, figures in $png/, tables and CSV files in $out/ (machine: $out/machine.txt; $elapsed min)"
 [ "$extreme_status" -eq 0 ] || note "taylorode extreme reported a failed case (see out/extreme.txt and the README)"
-if [ -n "$peers" ]; then
-  note "re-read the hand-written paragraphs of README.md marked 'prose: re-read after make figures': they quote"
-  note "the blocks peers, peers-summary and performance by hand"
-fi
+# the hand-written paragraphs that quote the blocks: to be re-read
+prose="$(grep -nxF '<!-- prose: re-read after make figures -->' README.md | cut -d: -f1 | paste -sd, - || true)"
+[ -z "$prose" ] || note "re-read by hand the paragraphs of README.md marked 'prose: re-read after make figures' (line $prose): they quote the blocks"

@@ -282,8 +282,8 @@ def peers_figures(csv_dir, png_dir, errors=None):
     axes[0].legend(fontsize=8, ncol=2)
     tols = sorted({float(r["tol"]) for r in rows if r["problem"] == "vdp1e3_wp" and r["tol"] not in ("", "paper")})
     tol_text = f"from {sci(tols[-1])} to {sci(tols[0])}" if tols else ""
-    fig.suptitle(f"Work-precision beside CVODE and ARKODE (wide grey lines), rtol = atol = tol {tol_text}; each "
-                 f"scheme with its default error estimate (solid) and others (dotted){shaded}", fontsize=9)
+    fig.suptitle(f"Work-precision beside CVODE and ARKODE (wide grey lines), rtol = atol = tol {tol_text};\n"
+                 f"each scheme with its default error estimate (solid) and others (dotted){shaded}", fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(png_dir, "peers_work_precision_vdp.png"), dpi=110)
     plt.close(fig)
