@@ -32,7 +32,7 @@
 !> against the published solutions at t_end. radau5, i-t-2 and si-t-2, the schemes the
 !> library recommends, must succeed on every problem at 1e-2 and 1e-5 within the budget
 !> (at 1e-8 they may run out of it: si-t-2 on Van der Pol, OREGO and E5, i-t-2 on
-!> Robertson to 1e11 and Prothero-Robinson need more than 20,000 steps there); the
+!> Robertson to 1e11 need more than 20,000 steps there); the
 !> others may fail with a status (the explicit schemes on stiff problems, the
 !> first-order ones at tight tolerances), never return a wrong state with status ok.
 !> Tolerances: 1e-2, 1e-5 and 1e-8 here (the app's `accuracy` command runs every

@@ -48,6 +48,13 @@ module taylorode_problem_ode
       !> Newton iteration with a matrix factored for the step size at hand, without a
       !> second one to confirm convergence
       logical :: linear_g = .false.
+      !> Declare f and g independent of t. The second-order Taylor schemes advance a
+      !> problem that depends on t as the autonomous scheme advances (t, U) (with t' = 1),
+      !> which needs dF/dt: by a difference in t, one more evaluation of F per Newton
+      !> iteration of i-t-2 and of f and g per step of ex-t-2, si-t-2 and si-t-2-paper.
+      !> An autonomous problem saves them (without dF/dt, a problem that does depend on t
+      !> is advanced to first order only)
+      logical :: autonomous = .false.
       !> Set by reject_evaluation, cleared by the integrator before each attempt
       logical, private :: rejected = .false.
       !> Set by reject_evaluation(fatal=.true.): the integration stops at once

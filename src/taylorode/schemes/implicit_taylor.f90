@@ -12,6 +12,11 @@
 !> whose Schur complement it is: J^2 is never formed, and the solves keep their
 !> rounding errors at the size of h |lambda| instead of (h |lambda|)^2 (see
 !> taylorode_newton_solver).
+!>
+!> A problem that depends on t is advanced as the autonomous scheme advances (t, U)
+!> with t' = 1: i-t-2's residual has h^2/2 (J F + dF/dt)(t1, U), dF/dt by a backward
+!> difference in t (inside the step), and the derivative of J in its Newton matrix is
+!> taken along (1, F).
 module taylorode_schemes_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
@@ -19,7 +24,8 @@ module taylorode_schemes_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac, evaluate_rhs
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac, evaluate_rhs, &
+      evaluate_time_derivative, of_rhs
    implicit none
    private
 
@@ -35,6 +41,8 @@ module taylorode_schemes_implicit_taylor
       real(dp), allocatable :: u0(:)
       !> F = f + g at the current iterate
       real(dp), allocatable :: rhs1(:)
+      !> dF/dt at the current iterate (i-t-2, a problem that depends on t)
+      real(dp), allocatable :: rhs_t1(:)
       !> J = J_f + J_g at the current iterate
       class(matrix_type), allocatable :: jac1
       !> Whether the i-t-2 Newton matrix has the second-derivative term; J at U +
@@ -122,8 +130,8 @@ contains
       allocate (self%rhs_checked(n), self%u_checked(n))
       self%checked = .false.
       associate (system => self%system)
-         if (allocated(system%u0)) deallocate (system%u0, system%rhs1, system%probe)
-         allocate (system%u0(n), system%rhs1(n), system%probe(n))
+         if (allocated(system%u0)) deallocate (system%u0, system%rhs1, system%probe, system%rhs_t1)
+         allocate (system%u0(n), system%rhs1(n), system%probe(n), system%rhs_t1(n))
          call new_matrix(system%jac1, n, self%structure, stat)
          if (self%order == 2) call new_matrix(system%jac_probe, n, self%structure, stat)
       end associate
@@ -198,7 +206,8 @@ contains
       call self%newton(2)%apply_inverse(error, self%counters, stat)
    end subroutine implicit_taylor_step_error
 
-   !> r(U) = U - U0 - h F(U) [+ h^2/2 J(U) F(U) for order 2]; keeps J(U) for the matrix.
+   !> r(U) = U - U0 - h F(U) [+ h^2/2 (J(U) F(U) + dF/dt(U)) for order 2, dF/dt = 0 for
+   !> an autonomous problem]; keeps J(U) for the matrix.
    subroutine implicit_taylor_residual(self, problem, u, r, counters)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -218,11 +227,20 @@ contains
       if (self%order == 2) then
          call jacobian_at(self, problem, u, counters)
          call self%jac1%multiply_add(0.5_dp*self%h*self%h, self%rhs1, r)
+         if (.not. problem%autonomous) then
+            call evaluate_time_derivative(problem, of_rhs, self%t1, -self%h, u, self%rhs1, self%rhs_t1, self%probe, &
+               counters)
+            do i = 1, size(u)
+               r(i) = r(i) + 0.5_dp*self%h*self%h*self%rhs_t1(i)
+            end do
+         end if
       end if
    end subroutine implicit_taylor_residual
 
    !> I - h J(U), or for order 2 the stacked [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]]
-   !> (J(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]).
+   !> (J(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]);
+   !> F''[F] is the derivative of J along (1, F) in (t, U) (with dJ/dt when the problem
+   !> depends on t, then by a backward difference, inside the step).
    subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -231,7 +249,7 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
-      real(dp) :: epsilon_f
+      real(dp) :: epsilon_f, side, t_probe
 
       if (self%order /= 2) then
          call jacobian_at(self, problem, u, counters)
@@ -241,12 +259,21 @@ contains
          call matrix%add_block(0.5_dp*self%h, self%jac1, 1, 2, stat)
          call matrix%add_block(-self%h, self%jac1, 2, 1, stat)
          if (self%second_derivatives .and. allocated(self%jac_probe)) then
-            ! F''(U)[F] = (J(U + e F) - J(U)) / e, e F of the size of sqrt(eps) |U|
-            epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
-            self%probe = u + epsilon_f*self%rhs1
-            call evaluate_jac(problem, self%t1, self%probe, self%jac_probe, counters)
+            ! F''(U)[F] = (J(t1 + e, U + e F) - J(t1, U)) / e, e (1, F) of the size of
+            ! sqrt(eps) |U| (e < 0 and t1 + e when the problem depends on t)
+            if (problem%autonomous) then
+               side = 1.0_dp
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
+               t_probe = self%t1
+            else
+               side = -1.0_dp
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/hypot(norm2(self%rhs1), 1.0_dp)
+               t_probe = self%t1 - epsilon_f
+            end if
+            self%probe = u + side*epsilon_f*self%rhs1
+            call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters)
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
-            call matrix%add_block(0.5_dp*self%h*self%h/epsilon_f, self%jac_probe, 1, 1, stat)
+            call matrix%add_block(0.5_dp*self%h*self%h/(side*epsilon_f), self%jac_probe, 1, 1, stat)
          end if
       end if
       call matrix%add_identity(1.0_dp)

@@ -23,6 +23,10 @@ module taylorode_schemes_scheme
 
    public :: scheme_type, default_newton_settings, default_newton_fraction, stability_quotient
    public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g, evaluate_jac
+   public :: evaluate_time_derivative, of_f, of_g, of_rhs
+
+   !> The part of F a time derivative is taken of: f, g, or F = f + g (one call of `rhs`)
+   integer, parameter :: of_f = 1, of_g = 2, of_rhs = 3
 
    !> Fraction of the error weights below which Newton increments must fall with the
    !> paper's Newton test, for schemes that take the integrator's default
@@ -408,6 +412,67 @@ contains
       self%n = n
       self%structure = structure
    end function resize
+
+   !> Counted d(part)/dt at (t, u), part f, g or F (of_f, of_g, of_rhs), by the
+   !> second-order one-sided difference through part(t, u) = value (known to the
+   !> caller), part(t + d, u) and part(t + 2d, u), d of the sign of `step`, |d| =
+   !> |step|/128 (at least 64 eps |t|). The schemes use h^2/2 dF/dt: the difference's
+   !> own error, d^2/3 F_ttt, adds 1e-5 h^4 F_ttt to a step, and its rounding error is
+   !> 1e-13 of the change of F over the step, smooth in U to what Newton resolves (a
+   !> difference over sqrt(eps) |t| would leave 1e-8 of it, noise that stops Newton).
+   !> A scheme takes it into its step (step = h forward from the start, -h backward
+   !> from the end), so that no difference reaches across a step's end, where a
+   !> problem may jump in t.
+   subroutine evaluate_time_derivative(problem, part, t, step, u, value, derivative, work, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> of_f, of_g or of_rhs
+      integer, intent(in) :: part
+      !> Time
+      real(dp), intent(in) :: t
+      !> The step the difference is taken into: its length and side of t
+      real(dp), intent(in) :: step
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> part(t, u)
+      real(dp), intent(in) :: value(:)
+      !> d(part)/dt at (t, u)
+      real(dp), intent(out) :: derivative(:)
+      !> Work array of the size of u
+      real(dp), intent(out) :: work(:)
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      real(dp) :: d, a, b, ca, cb
+      integer :: i
+      d = sign(max(abs(step)/128.0_dp, 64.0_dp*epsilon(1.0_dp)*abs(t)), step)
+      ! the offsets as the times represent them, and the weights of the quadratic
+      ! through the three values, differentiated at t
+      a = (t + d) - t
+      b = (t + 2.0_dp*d) - t
+      ca = b/(a*(b - a))
+      cb = -a/(b*(b - a))
+      call evaluate_part(t + a, derivative)
+      call evaluate_part(t + b, work)
+      ! the weight of value is -(ca + cb): as differences, exactly 0 where part does
+      ! not depend on t
+      do i = 1, size(u)
+         derivative(i) = ca*(derivative(i) - value(i)) + cb*(work(i) - value(i))
+      end do
+   contains
+      !> part(time, u), counted
+      subroutine evaluate_part(time, result)
+         real(dp), intent(in) :: time
+         real(dp), intent(out) :: result(:)
+         select case (part)
+         case (of_f)
+            call evaluate_f(problem, time, u, result, counters)
+         case (of_g)
+            call evaluate_g(problem, time, u, result, counters)
+         case default
+            call evaluate_rhs(problem, time, u, result, counters)
+         end select
+      end subroutine evaluate_part
+   end subroutine evaluate_time_derivative
 
    !> Counted evaluation of f.
    subroutine evaluate_f(problem, t, u, value, counters)

@@ -46,6 +46,7 @@ contains
       integer :: i
       if (present(points)) self%points = points
       self%name = "brusselator"
+      self%autonomous = .true.
       ! the diffusion (with its boundary values) is A U + b
       self%linear_g = .true.
       self%t_end = 10.0_dp

@@ -34,6 +34,7 @@ contains
    pure function new_e5() result(self)
       type(e5_type) :: self
       self%name = "e5"
+      self%autonomous = .true.
       self%t_end = 1.0e13_dp
       self%u0 = [1.76e-3_dp, 0.0_dp, 0.0_dp, 0.0_dp]
       self%rtol = 1.0e-6_dp

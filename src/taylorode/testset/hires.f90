@@ -42,6 +42,7 @@ contains
       type(hires_type) :: self
       if (present(split)) self%split = split
       self%name = "hires"
+      self%autonomous = .true.
       self%t_end = 321.8122_dp
       self%u0 = [1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0057_dp]
       self%rtol = 1.0e-6_dp

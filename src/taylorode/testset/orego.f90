@@ -46,6 +46,7 @@ contains
       type(orego_type) :: self
       if (present(split)) self%split = split
       self%name = "orego"
+      self%autonomous = .true.
       self%t_end = 360.0_dp
       self%u0 = [1.0_dp, 2.0_dp, 3.0_dp]
       self%rtol = 1.0e-6_dp

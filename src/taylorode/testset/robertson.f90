@@ -37,6 +37,7 @@ contains
       real(dp), intent(in), optional :: t_end
       type(robertson_type) :: self
       self%name = "robertson"
+      self%autonomous = .true.
       self%t_end = 40.0_dp
       if (present(t_end)) self%t_end = t_end
       self%u0 = [1.0_dp, 0.0_dp, 0.0_dp]

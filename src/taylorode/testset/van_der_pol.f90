@@ -69,6 +69,7 @@ contains
       initial = vdp_ic_prepared
       if (present(ic)) initial = ic
       self%name = "vdp"
+      self%autonomous = .true.
       self%t0 = 0.0_dp
       self%t_end = 3.0_dp*mu
       self%u0 = van_der_pol_initial_state(initial)
