@@ -16,7 +16,7 @@ module taylorode_schemes_scheme
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type
    use taylorode_problem_ode, only: ode_problem
-   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance
+   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance, default_max_newton_iterations
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -88,6 +88,15 @@ module taylorode_schemes_scheme
       !> beyond what the stability function says (si-t-2: its h^2/2 J_f0 F0 evaluates the
       !> stiff g at the start explicitly); `propagated_error` says by how much
       logical :: amplifies_errors = .false.
+      !> Newton iterations per system when the options leave the limit to the scheme
+      !> (options%max_newton_iterations = 0): 10, radau5 7 (RADAU5's NIT)
+      integer :: newton_iterations = default_max_newton_iterations
+      !> Whether it solves M U' = F with a problem's constant mass matrix (radau5); the
+      !> others refuse a problem that declares one
+      logical :: solves_mass = .false.
+      !> Whether `refine_estimate` may give a second, filtered error estimate when the
+      !> embedded one fails the error test (radau5, as RADAU5's ESTRAD)
+      logical :: refines_estimate = .false.
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -117,6 +126,8 @@ module taylorode_schemes_scheme
       procedure :: step_error
       !> What an error of the state the step just taken ended in adds to the next step
       procedure :: propagated_error
+      !> A second estimate of the step's error when the first failed the error test
+      procedure :: refine_estimate
    end type scheme_type
 
    abstract interface
@@ -391,9 +402,31 @@ contains
       propagated = 0.0_dp
    end subroutine propagated_error
 
+   !> A second estimate of the error of the step just taken (size h from t), asked for
+   !> when its embedded estimate `delta` failed the error test, for schemes that declare
+   !> `refines_estimate`: delta is replaced and `refined` set when the scheme has one for
+   !> this attempt (radau5 at the first step and on retries, as RADAU5). The default has
+   !> none.
+   subroutine refine_estimate(self, problem, t, h, delta, refined, stat)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Start and size of the step just taken
+      real(dp), intent(in) :: t, h
+      !> The estimate on entry, the refined one on exit when `refined`
+      real(dp), contiguous, intent(inout) :: delta(:)
+      !> Whether delta was replaced
+      logical, intent(out) :: refined
+      !> Outcome (an evaluation that failed)
+      type(status_type), intent(inout) :: stat
+      refined = .false.
+   end subroutine refine_estimate
+
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then
-   !> reallocates). An impossible structure leaves stat set and returns false.
+   !> reallocates). An impossible structure, or a mass matrix the scheme does not
+   !> solve, leaves stat set and returns false.
    logical function resize(self, problem, n, stat)
       !> The scheme
       class(scheme_type), intent(inout) :: self
@@ -405,6 +438,11 @@ contains
       type(status_type), intent(inout) :: stat
       type(matrix_structure_type) :: structure
       resize = .false.
+      if (problem%has_mass .and. .not. self%solves_mass) then
+         call set_status(stat, status_invalid_argument, "the problem has a mass matrix (M U' = F), which only "// &
+            "radau5 solves; "//self%name//" does not")
+         return
+      end if
       call problem%checked_structure(n, structure, stat)
       if (stat%code /= status_ok) return
       resize = .not. (self%n == n .and. self%structure%storage == structure%storage .and. &
