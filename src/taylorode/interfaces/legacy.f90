@@ -160,8 +160,8 @@ module taylorode_interfaces_legacy
       procedure :: jac_f_band => legacy_jac_f_band
       procedure :: jac_g_band => legacy_jac_g_band
       procedure :: jac_band => legacy_jac_band
-      procedure :: mass => legacy_mass
-      procedure :: mass_band => legacy_mass_band
+      procedure :: mass_matrix => legacy_mass
+      procedure :: mass_matrix_band => legacy_mass_band
    end type legacy_problem_type
 
    !> SOLOUT after every accepted step

@@ -49,7 +49,7 @@ module taylorode_problem_ode
       !> second one to confirm convergence
       logical :: linear_g = .false.
       !> Declare a constant mass matrix M: the problem is then M U' = f(t, U) + g(t, U),
-      !> with M from `mass` (dense) or `mass_band` (the band storage of the Jacobian
+      !> with M from `mass_matrix` (dense) or `mass_matrix_band` (the band storage of the Jacobian
       !> structure, M's bands within the Jacobian's). M may be singular: the equations
       !> whose rows of M are zero are algebraic (an index-1 differential-algebraic
       !> system, whose initial state must satisfy them). Only radau5 solves such a
@@ -110,10 +110,10 @@ module taylorode_problem_ode
       procedure :: jac_band => full_band_jacobian
       !> The constant mass matrix M, dense (asked for when `has_mass` and the Jacobian
       !> structure is dense; default: the identity)
-      procedure :: mass
+      procedure :: mass_matrix
       !> M in the band storage of the Jacobian structure (asked for when `has_mass` and
       !> the structure is a band; default: the identity)
-      procedure :: mass_band
+      procedure :: mass_matrix_band
       !> J_f v, the Jacobian of f times a vector (default: a forward difference of f along v)
       procedure :: jvp_f
       !> J_g v, the Jacobian of g times a vector (default: a forward difference of g along v)
@@ -404,8 +404,8 @@ contains
 
    !> The mass matrix M, m(i, j) = M(i, j) (n x n): called once per integration when
    !> `has_mass`; the default is the identity. A problem that declares `has_mass`
-   !> overrides it (or `mass_band` for a band structure).
-   subroutine mass(self, m)
+   !> overrides it (or `mass_matrix_band` for a band structure).
+   subroutine mass_matrix(self, m)
       !> The problem
       class(ode_problem), intent(inout) :: self
       !> M, size(m, 1) = size(m, 2) = n
@@ -415,12 +415,12 @@ contains
       do i = 1, min(size(m, 1), size(m, 2))
          m(i, i) = 1.0_dp
       end do
-   end subroutine mass
+   end subroutine mass_matrix
 
    !> The mass matrix in LAPACK band storage with the Jacobian's bands, band(upper + 1 +
    !> i - j, j) = M(i, j) (the Jacobian structure's upper bandwidth); the default is the
    !> identity.
-   subroutine mass_band(self, band)
+   subroutine mass_matrix_band(self, band)
       !> The problem
       class(ode_problem), intent(inout) :: self
       !> Band storage, (lower + upper + 1) x n
@@ -429,7 +429,7 @@ contains
       call self%bandwidths(size(band, 2), lower, upper)
       band = 0.0_dp
       band(max(upper, 0) + 1, :) = 1.0_dp
-   end subroutine mass_band
+   end subroutine mass_matrix_band
 
    !> J_f(t, u) v by a forward difference of f along v (two evaluations of f); problems
    !> with an analytic product override it.

@@ -372,9 +372,9 @@ contains
       class(ode_problem), intent(inout) :: problem
       select type (mass => self%mass)
       type is (dense_matrix_type)
-         call problem%mass(mass%a)
+         call problem%mass_matrix(mass%a)
       type is (band_matrix_type)
-         call problem%mass_band(mass%ab(mass%fill + 1:, :))
+         call problem%mass_matrix_band(mass%ab(mass%fill + 1:, :))
       end select
       self%mass_loaded = .true.
       self%factored = .false.

@@ -58,9 +58,9 @@ module taylorode_testset_transistor_amplifier
       !> dg/dU in band storage
       procedure :: jac_g_band => amplifier_jac_g_band
       !> M, dense
-      procedure :: mass => amplifier_mass
+      procedure :: mass_matrix => amplifier_mass
       !> M in the band storage of the Jacobian structure
-      procedure :: mass_band => amplifier_mass_band
+      procedure :: mass_matrix_band => amplifier_mass_band
    end type transistor_amplifier_type
 
 contains
@@ -212,7 +212,7 @@ contains
       real(dp), intent(out) :: m(:, :)
       real(dp) :: band(lower + upper + 1, size(m, 2))
       integer :: i, j
-      call self%mass_band(band)
+      call self%mass_matrix_band(band)
       m = 0.0_dp
       do j = 1, size(m, 2)
          do i = max(1, j - upper), min(size(m, 1), j + lower)
