@@ -17,7 +17,9 @@
 #   make install         the library (release) into PREFIX (default build/install): modules and the
 #                        C header in include/, libtaylorode.a and .so and pkgconfig/taylorode.pc in lib/
 #   make figures         every number and figure of the README regenerated with the machine's description
-#                        (tools/figures.sh: out/, docs/*.png, README blocks; FULL=1 adds the full runs)
+#                        (tools/figures.sh: out/, docs/*.png, README blocks; FULL=1 adds the full runs,
+#                        PEERS=<peer harness> the peers in ROUNDS interleaved rounds, FLOOR=<it2_vdp.c>
+#                        the floor; QUICK=1 checks the performance tooling in a few minutes)
 #   make docs            the API documentation of src/ with FORD (installed into .venv if missing) in
 #                        build/docs; fails on an undocumented public entity or a FORD warning
 #

@@ -8,6 +8,7 @@ module app_cli
       scheme_names, integrator_options_type, paper_options, norm_max, norm_rms, controller_i, controller_pi, &
       controller_pid, estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    use taylorode_testset, only: test_problem_names, vdp_split_paper, vdp_split_stiff
+   use taylorode_analysis, only: accuracy_case_names
    use taylorode_base_status, only: set_status
    use taylorode_base_strings, only: format_count, format_fixed, format_integer
    use taylorode_base_files, only: is_directory
@@ -16,22 +17,31 @@ module app_cli
    private
 
    public :: request_type, read_arguments, parse_command_line, check_request, join
-   public :: version, default_budget, default_vdp_budget, ensemble_t_end, bench_problem_names
+   public :: version, default_budget, default_table_budget, default_vdp_budget, default_accuracy_budget, &
+      default_repeats, default_table_repeats, ensemble_t_end, bench_problem_names
 
    !> Version of the app and the library
    character(len=*), parameter :: version = "0.2.0"
    !> Subcommands
    character(len=*), parameter :: command_names(*) = [character(len=9) :: &
-      "table", "vdp", "sweep", "stability", "extreme", "bench", "ensemble"]
+      "table", "vdp", "sweep", "stability", "extreme", "bench", "ensemble", "accuracy"]
    !> Options that take a value
    character(len=*), parameter :: valued_options(*) = [character(len=12) :: "--out", "--scheme", "--ic", &
       "--mu", "--tend", "--split", "--rtol", "--atol", "--norm", "--controller", "--h0", "--hmax", &
       "--history", "--dense", "--budget", "--repeats", "--problem", "--schemes", "--tols", "--grid", &
       "--estimate", "--settings", "--problems", "--min-time", "--refs", "--csv", "--members", "--threads"]
-   !> Step budget per run of table, sweep and bench unless --budget (or --full for table)
+   !> Step budget per run of sweep and bench unless --budget
    integer(i8), parameter :: default_budget = 2000000_i8
+   !> Step budget per run of table unless --budget or --full: the paper's runs take at most
+   !> 160,000 steps; the two that need tens of millions here stop at it and say where
+   integer(i8), parameter :: default_table_budget = 200000_i8
+   !> Timing runs for the medians unless --repeats (table: its runs are 0.1 s each, and
+   !> the main job stays within seconds)
+   integer, parameter :: default_repeats = 5, default_table_repeats = 3
    !> Step budget of a vdp run (and its reference run) unless --budget
    integer(i8), parameter :: default_vdp_budget = 10000000_i8
+   !> Step budget per run of accuracy unless --budget (the accuracy suite's)
+   integer(i8), parameter :: default_accuracy_budget = 20000_i8
    !> Upper bounds of the counts a user may ask for: each keeps a run finite
    integer(i8), parameter :: max_budget = 1000000000_i8
    !> ensemble: final time of every member (mu = 1 oscillates three times, mu = 1000 stays on
@@ -72,8 +82,8 @@ module app_cli
       logical :: full = .false.
       !> Step budget per run (--budget); 0 until given
       integer(i8) :: budget = 0
-      !> Timing repetitions for the median (--repeats)
-      integer :: repeats = 5
+      !> Timing repetitions for the median (--repeats); 0 until given
+      integer :: repeats = 0
       !> sweep: problem, schemes and tolerance range (decades from tol_high down to tol_low)
       character(len=:), allocatable :: problem
       character(len=16), allocatable :: schemes(:)
@@ -84,7 +94,7 @@ module app_cli
       logical :: quick = .false.
       !> bench: problems, tolerances, CPU seconds accumulated per run, the harness's
       !> reference directory and the CSV file in its columns
-      character(len=16), allocatable :: problems(:)
+      character(len=17), allocatable :: problems(:)
       real(dp), allocatable :: tols(:)
       real(dp) :: min_time = 0.2_dp
       character(len=:), allocatable :: refs_dir, csv_file
@@ -155,10 +165,15 @@ contains
       end if
       if (request%command == "sweep") request%schemes = [character(len=16) :: &
          "si-t-1", "si-t-2", "i-t-1", "i-t-2", "imex-rk21", "radau5"]
+      if (request%command == "accuracy") then
+         request%schemes = scheme_names
+         request%problems = accuracy_case_names
+         request%budget = default_accuracy_budget
+      end if
       if (request%command == "bench") then
          request%options%error_estimate = estimate_auto
          request%schemes = [character(len=16) :: "si-t-2", "i-t-2", "radau5"]
-         request%problems = [character(len=16) :: "vdp-paper", "vdp1e3_wp", "vdp1e3_up", "rober40", "rober1e11", &
+         request%problems = [character(len=17) :: "vdp-paper", "vdp1e3_wp", "vdp1e3_up", "rober40", "rober1e11", &
             "hires", "orego", "e5", "bruss32", "bruss512"]
          request%tol_high = 1.0e-3_dp
       end if
@@ -211,7 +226,14 @@ contains
          call set_status(stat, status_invalid_argument, "--full runs without a budget: drop --budget or --full")
          return
       end if
-      if (request%budget == 0) request%budget = merge(default_vdp_budget, default_budget, request%command == "vdp")
+      if (request%budget == 0) then
+         select case (request%command)
+         case ("vdp"); request%budget = default_vdp_budget
+         case ("table"); request%budget = default_table_budget
+         case default; request%budget = default_budget
+         end select
+      end if
+      if (request%repeats == 0) request%repeats = merge(default_table_repeats, default_repeats, request%command == "table")
       request%tols = [(request%tol_high/10.0_dp**i, i = 0, nint(log10(request%tol_high/request%tol_low)))]
       stat%code = status_ok
    end subroutine parse_command_line
@@ -319,7 +341,8 @@ contains
          if (.not. read_count(option, value, 2_i8, int(max_dense_points, i8), "points", count, stat)) return
          request%dense_points = int(count)
       case ("--budget")
-         if (.not. allowed(request, option, ["table", "sweep", "bench", "vdp  "], stat)) return
+         if (.not. allowed(request, option, ["table   ", "sweep   ", "bench   ", "vdp     ", "accuracy"], stat)) &
+            return
          if (.not. read_count(option, value, 1_i8, max_budget, "steps", request%budget, stat)) return
       case ("--repeats")
          if (.not. allowed(request, option, ["table   ", "sweep   ", "ensemble"], stat)) return
@@ -333,18 +356,22 @@ contains
          end if
          request%problem = value
       case ("--schemes")
-         if (.not. allowed(request, option, ["sweep", "bench"], stat)) return
+         if (.not. allowed(request, option, ["sweep   ", "bench   ", "accuracy"], stat)) return
          if (.not. split_names(value, scheme_names, "scheme", request%schemes, stat)) return
       case ("--tols")
-         if (.not. allowed(request, option, ["sweep", "bench"], stat)) return
+         if (.not. allowed(request, option, ["sweep   ", "bench   ", "accuracy"], stat)) return
          if (.not. tolerance_range(value, request%tol_high, request%tol_low, stat)) return
       case ("--grid")
          if (.not. allowed(request, option, ["stability"], stat)) return
          if (.not. read_count(option, value, 3_i8, int(max_grid, i8), "points", count, stat)) return
          request%grid = int(count)
       case ("--problems")
-         if (.not. allowed(request, option, ["bench"], stat)) return
-         if (.not. split_names(value, bench_problem_names, "problem", request%problems, stat)) return
+         if (.not. allowed(request, option, ["bench   ", "accuracy"], stat)) return
+         if (request%command == "accuracy") then
+            if (.not. split_names(value, accuracy_case_names, "problem", request%problems, stat)) return
+         else
+            if (.not. split_names(value, bench_problem_names, "problem", request%problems, stat)) return
+         end if
       case ("--min-time")
          if (.not. allowed(request, option, ["bench"], stat)) return
          if (.not. read_positive(option, value, request%min_time, stat)) return
@@ -505,10 +532,10 @@ contains
    !> A comma-separated list of names, each one of `valid` (what they are: `kind`).
    logical function split_names(text, valid, kind, names, stat)
       character(len=*), intent(in) :: text, valid(:), kind
-      character(len=16), allocatable, intent(inout) :: names(:)
+      character(len=*), allocatable, intent(inout) :: names(:)
       type(status_type), intent(inout) :: stat
       integer :: start, comma, finish
-      character(len=16), allocatable :: parsed(:)
+      character(len=len(names)), allocatable :: parsed(:)
       allocate (parsed(0))
       start = 1
       split_names = .false.
@@ -521,7 +548,7 @@ contains
                kind//"s: "//join(valid))
             return
          end if
-         parsed = [character(len=16) :: parsed, text(start:finish)]
+         parsed = [character(len=len(names)) :: parsed, text(start:finish)]
          if (comma == 0) exit
          start = start + comma
       end do

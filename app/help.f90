@@ -2,8 +2,10 @@
 module app_help
    use taylorode, only: scheme_names
    use taylorode_testset, only: test_problem_names
-   use taylorode_base_strings, only: format_count, format_fixed
-   use app_cli, only: version, default_budget, default_vdp_budget, ensemble_t_end, bench_problem_names, join
+   use taylorode_analysis, only: accuracy_case_names
+   use taylorode_base_strings, only: format_count, format_fixed, format_integer
+   use app_cli, only: version, default_budget, default_table_budget, default_vdp_budget, default_accuracy_budget, &
+      default_repeats, default_table_repeats, ensemble_t_end, bench_problem_names, join
    implicit none
    private
 
@@ -45,18 +47,30 @@ contains
          text = "taylorode table: the paper's Table 1 (Van der Pol mu = 1000, t in [0, 3000]) reproduced"//nl// &
             "  every scheme of the paper, both initial conditions, plus si-t-2, radau5 and the stiff"//nl// &
             "  splitting; paper's step counts and CPU seconds beside ours"//nl// &
-            "  --budget N    step budget per run (default "//format_count(default_budget)// &
+            "  --budget N    step budget per run (default "//format_count(default_table_budget)// &
             "); capped runs say how far they got"//nl// &
             "  --full        no budget: si-t-2-paper and imex-rk21 need ~50 million steps each"//nl// &
-            "  --repeats N   timing runs for the median (default 5, runs over 1 s once)"//nl// &
+            "  --repeats N   timing runs for the median (default "//format_integer(default_table_repeats)// &
+            ", runs over 1 s once)"//nl// &
             "  --out DIR     also write DIR/table1.csv (--force to overwrite)"
+      case ("accuracy")
+         text = "taylorode accuracy: the accuracy each scheme achieves against the tolerance on the test set"//nl// &
+            "  every scheme on every problem at rtol = tol from HIGH down to LOW by decades (atol = tol times"//nl// &
+            "  the problem's atol/rtol, concentrations nonnegative); error in the tolerance's own units,"//nl// &
+            "  max |u - ref| / (atol + rtol |ref|), at t_end and the largest on the output grid (dense"//nl// &
+            "  output), against radau5 at 1e-12 stepping to each output time; log10 of it in the table"//nl// &
+            "  --problems A,B,...  of "//join(accuracy_case_names)//" (default all)"//nl// &
+            "  --schemes A,B,...   default all"//nl// &
+            "  --tols HIGH:LOW     default 1e-2:1e-8"//nl// &
+            "  --budget N    attempted steps per run (default "//format_count(default_accuracy_budget)//")"//nl// &
+            "  --out DIR     also write DIR/accuracy.csv (--force to overwrite)"
       case ("sweep")
          text = "taylorode sweep: error against CPU time (work-precision) over a range of tolerances"//nl// &
             "  --problem P   one of "//join(test_problem_names)//" (default vdp)"//nl// &
             "  --schemes A,B,...  schemes to compare (default si-t-1,si-t-2,i-t-1,i-t-2,imex-rk21,radau5)"//nl// &
             "  --tols HIGH:LOW    rtol = atol from HIGH down to LOW by decades (default 1e-2:1e-8)"//nl// &
             "  --budget N    step budget per run (default "//format_count(default_budget)//")"//nl// &
-            "  --repeats N   timing runs for the median (default 5)"//nl// &
+            "  --repeats N   timing runs for the median (default "//format_integer(default_repeats)//")"//nl// &
             "  --out DIR     also write DIR/sweep.csv (--force to overwrite)"
       case ("stability")
          text = "taylorode stability: stability functions checked against real steps, S1 regions, L-stability"//nl// &
@@ -75,9 +89,9 @@ contains
          text = "taylorode bench: work at equal accuracy beside the peer solvers (run with --profile release)"//nl// &
             "  The peer harness's problems, split, initial data, output times and error measure;"//nl// &
             "  rtol = atol = tol, RMS norm, the library's defaults otherwise (vdp-paper: the paper's"//nl// &
-            "  settings, tol ignored). Per run: steps, F (= f + g), Jacobian, LU and solve counts per"//nl// &
-            "  step, CPU seconds (mean of repeats until --min-time), microseconds per step, error"//nl// &
-            "  at t_end and on the output grid against the reference."//nl// &
+            "  settings, tol ignored). Per run: steps, F (= f + g), Jacobian, product J v, LU and"//nl// &
+            "  solve counts per step, CPU seconds (mean of repeats until --min-time), microseconds"//nl// &
+            "  per step, error at t_end and on the output grid against the reference."//nl// &
             "  --problems A,B,...  of "//join(bench_problem_names)//nl// &
             "                (default vdp-paper to bruss512; bs1000 ... bs100000: Brusselator N = 1e3..1e5, t <= 0.5)"//nl// &
             "  --schemes A,B,...   default si-t-2,i-t-2,radau5"//nl// &
@@ -101,7 +115,7 @@ contains
             "  --members N   members (default 64)"//nl// &
             "  --scheme NAME one of "//join(scheme_names)//" (default i-t-2)"//nl// &
             "  --threads T   threads of the threaded runs (default: as many as OpenMP gives)"//nl// &
-            "  --repeats N   runs of each kind for the medians (default 5)"
+            "  --repeats N   runs of each kind for the medians (default "//format_integer(default_repeats)//")"
       case default
          text = "taylorode "//version//": one-step Taylor schemes for stiff ODEs U' = f(U) + g(U)"//nl// &
             "usage: taylorode [COMMAND] [OPTIONS]     (no command: table)"//nl// &
@@ -112,6 +126,7 @@ contains
             "  extreme    stiff and extreme cases, pass/fail"//nl// &
             "  bench      work at equal accuracy on the peer solvers' problems"//nl// &
             "  ensemble   a parameter sweep on one thread and on several: speed-up"//nl// &
+            "  accuracy   the accuracy each scheme achieves against the tolerance, test set wide"//nl// &
             "taylorode COMMAND --help (or taylorode help COMMAND) describes each command;"//nl// &
             "taylorode --version prints the version. Exit status: 0 success, 1 a run or check"//nl// &
             "failed or an output could not be written, 2 a mistake on the command line."

@@ -4,7 +4,7 @@
 !>
 !> The program reads the command line (app_cli), checks every output target before any
 !> work starts (app_output) and runs one command: table and vdp (app_paper), sweep,
-!> stability and extreme (app_reports), bench and ensemble (app_bench). Nothing typed
+!> stability, extreme and accuracy (app_reports), bench and ensemble (app_bench). Nothing typed
 !> on the command line reaches a shell; every file is written to a temporary file and
 !> renamed into place when complete; a file-size limit is a failed write like a full
 !> disk (SIGXFSZ ignored, app/signals.c). The app's modules are named app_* and are
@@ -17,7 +17,7 @@ program taylorode_app
    use app_output, only: table_type, checks_failed, ignore_file_size_signal, start_output, say, finish_output, &
       usage_error, check_outputs, write_tables
    use app_paper, only: run_vdp, run_table
-   use app_reports, only: run_sweep, run_stability, run_extreme
+   use app_reports, only: run_sweep, run_stability, run_extreme, run_accuracy
    use app_bench, only: run_bench, run_ensemble
    implicit none
 
@@ -64,6 +64,8 @@ program taylorode_app
       call run_bench(request, stat)
    case ("ensemble")
       call run_ensemble(request, stat)
+   case ("accuracy")
+      call run_accuracy(request, tables, stat)
    end select
    call write_tables(request, tables, write_stat)
    call finish_output()

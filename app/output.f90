@@ -105,6 +105,7 @@ contains
       case ("sweep"); names = [character(len=20) :: "sweep.csv"]
       case ("stability"); names = [character(len=20) :: "stability_check.csv", "s1_regions.csv", "l_stability.csv"]
       case ("extreme"); names = [character(len=20) :: "extreme.csv"]
+      case ("accuracy"); names = [character(len=20) :: "accuracy.csv"]
       case default; allocate (names(0))
       end select
    end function table_files

@@ -1,7 +1,8 @@
 !> The checks and sweeps of the taylorode app: `sweep` (error against CPU time over
 !> decades of tolerance), `stability` (stability functions against real steps, S1
-!> regions, L-stability) and `extreme` (stiff and extreme cases and bad input, one
-!> pass/fail line each).
+!> regions, L-stability), `extreme` (stiff and extreme cases and bad input, one
+!> pass/fail line each) and `accuracy` (the accuracy each scheme achieves against the
+!> tolerance on the test set).
 module app_reports
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    use taylorode, only: dp, i8, status_type, status_ok, status_invalid_argument, status_nonfinite, &
@@ -10,7 +11,8 @@ module app_reports
    use taylorode_testset, only: test_problem_type, new_test_problem, van_der_pol_type, new_van_der_pol, &
       vdp_split_paper, vdp_ic_unprepared, robertson_type, new_robertson, hires_type, new_hires
    use taylorode_analysis, only: reference_run, tolerance_scale, work_precision_config_type, &
-      work_precision_point_type, work_precision, step_stability, s1_supremum, s1_axis_crossings
+      work_precision_point_type, work_precision, step_stability, s1_supremum, s1_axis_crossings, &
+      accuracy_case_type, accuracy_point_type, new_accuracy_case, accuracy_reference, accuracy_run
    use taylorode_base_strings, only: format_real, format_count, format_fixed, format_integer, format_number, &
       pad, choose
    use app_cli, only: request_type
@@ -18,7 +20,7 @@ module app_reports
    implicit none
    private
 
-   public :: run_sweep, run_stability, run_extreme
+   public :: run_sweep, run_stability, run_extreme, run_accuracy
 
    !> Global error, in the integrator's own weights, that the extreme cases accept: the
    !> number of accepted steps N, at least 100. Error per step control keeps each local
@@ -86,6 +88,121 @@ contains
       end do
       stat%code = status_ok
    end subroutine run_sweep
+
+   !> taylorode accuracy: every scheme asked for on every problem asked for, at rtol from
+   !> tol_high down to tol_low by decades: log10 of the error in tolerance units at t_end
+   !> and on the output grid (taylorode_analysis_accuracy), a table per problem, and per
+   !> scheme the worst over the problems at each tolerance (what the README quotes).
+   subroutine run_accuracy(request, tables, stat)
+      type(request_type), intent(in) :: request
+      type(table_type), allocatable, intent(inout) :: tables(:)
+      type(status_type), intent(out) :: stat
+      type(accuracy_case_type) :: case
+      type(accuracy_point_type) :: point
+      real(dp), allocatable :: tols(:), worst_end(:, :), worst_grid(:, :)
+      integer, allocatable :: failed(:, :)
+      integer :: p, s, k, decades, table
+      character(len=:), allocatable :: line
+
+      decades = nint(log10(request%tol_high/request%tol_low)) + 1
+      tols = [(request%tol_high/10.0_dp**k, k=0, decades - 1)]
+      allocate (worst_end(size(request%schemes), decades), source=-huge(1.0_dp))
+      allocate (worst_grid, mold=worst_end)
+      worst_grid = -huge(1.0_dp)
+      allocate (failed(size(request%schemes), decades), source=0)
+      table = new_table(tables, "accuracy.csv", "problem,scheme,tol,status,accepted,rejected,error_end,error_grid,"// &
+         "t_worst")
+      call say("accuracy against the tolerance: log10 of max |u - ref| / (atol + rtol |ref|), at t_end / the "// &
+         "largest on the output grid")
+      call say("(rtol = tol, atol = tol times the problem's atol/rtol; reference radau5 at 1e-12; a failure: the "// &
+         "status, budget: the "//format_count(request%budget)//" attempted steps per run ran out, refused: the"// &
+         " scheme does not take the problem, as radau5 alone takes mass matrices)")
+      line = pad("", -13)
+      do k = 1, decades
+         line = line//pad(format_real(tols(k), 0), 13)
+      end do
+      do p = 1, size(request%problems)
+         call progress("accuracy: "//trim(request%problems(p)))
+         call new_accuracy_case(trim(request%problems(p)), case, stat)
+         if (stat%code /= status_ok) return
+         call accuracy_reference(case, stat)
+         if (stat%code /= status_ok) then
+            stat%message = "accuracy: the reference run of "//case%name//" failed: "//stat%message
+            return
+         end if
+         call say("")
+         call say(case%name//": "//format_integer(size(case%t_out))//" output times")
+         call say(line)
+         do s = 1, size(request%schemes)
+            line = pad(trim(request%schemes(s)), -13)
+            do k = 1, decades
+               call accuracy_run(case, trim(request%schemes(s)), tols(k), request%budget, point)
+               line = line//pad(point_text(point), 13)
+               call add_row(tables(table), case%name//","//trim(point%scheme)//","//format_real(point%tol, 0)// &
+                  ","//status_word(point%status)//","//format_integer(point%accepted)//","// &
+                  format_integer(point%rejected)//","//error_text(point%error_end)//","// &
+                  error_text(point%error_grid)//","//format_number(point%t_worst))
+               ! a refusal (the scheme does not take this problem: a mass matrix) is no failure
+               if (point%status == status_ok) then
+                  worst_end(s, k) = max(worst_end(s, k), point%error_end)
+                  worst_grid(s, k) = max(worst_grid(s, k), point%error_grid)
+               else if (point%status /= status_invalid_argument) then
+                  failed(s, k) = failed(s, k) + 1
+               end if
+            end do
+            call say(line)
+            line = pad("", -13)
+            do k = 1, decades
+               line = line//pad(format_real(tols(k), 0), 13)
+            end do
+         end do
+      end do
+      call say("")
+      call say("worst over the problems (log10 at t_end / on the grid; failed runs, which say so, counted)")
+      call say(line)
+      do s = 1, size(request%schemes)
+         line = pad(trim(request%schemes(s)), -13)
+         do k = 1, decades
+            line = line//pad(worst_text(worst_end(s, k), worst_grid(s, k), failed(s, k)), 13)
+         end do
+         call say(line)
+      end do
+      stat%code = status_ok
+   contains
+      !> "end/grid" in log10, or what stopped a failed run ("budget": the step budget)
+      function point_text(point) result(text)
+         type(accuracy_point_type), intent(in) :: point
+         character(len=:), allocatable :: text
+         if (point%status == status_max_steps) then
+            text = "budget"
+         else if (point%status == status_invalid_argument) then
+            text = "refused"
+         else if (point%status /= status_ok) then
+            text = status_word(point%status)
+            if (len(text) > 12) text = text(:12)
+         else
+            text = log_text(point%error_end)//"/"//log_text(point%error_grid)
+         end if
+      end function point_text
+      !> the worst end/grid and the number of failed runs
+      function worst_text(worst_end, worst_grid, failures) result(text)
+         real(dp), intent(in) :: worst_end, worst_grid
+         integer, intent(in) :: failures
+         character(len=:), allocatable :: text
+         text = log_text(worst_end)//"/"//log_text(worst_grid)
+         if (failures > 0) text = text//" "//format_integer(failures)//"f"
+      end function worst_text
+      !> log10 of an error in tolerance units, one decimal ("-" when none)
+      function log_text(error) result(text)
+         real(dp), intent(in) :: error
+         character(len=:), allocatable :: text
+         if (error < 0.0_dp) then
+            text = "-"
+         else
+            text = format_fixed(log10(max(error, 1.0e-3_dp)), 1)
+         end if
+      end function log_text
+   end subroutine run_accuracy
 
    !> taylorode stability: (1) R(z, w) against one real step, (2) S1 regions and their
    !> axis crossings, (3) |R(z, w)| as Re w -> -1e12.

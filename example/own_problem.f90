@@ -78,6 +78,7 @@ program own_problem
    real(dp) :: u(3)
 
    u = [1.0_dp, 0.0_dp, 0.0_dp]
+   problem%autonomous = .true.     ! f and g do not depend on t
    options%rtol = 1.0e-6_dp
    options%atol = 1.0e-10_dp
    call new_scheme("i-t-2", scheme, stat)

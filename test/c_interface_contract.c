@@ -101,6 +101,9 @@ int main(void) {
   expect_refused(taylorode_set_option(ode, " h0", 1e-3), TAYLORODE_INVALID_ARGUMENT, ode, "option \" h0\"");
   expect_refused(taylorode_set_option(ode, "", 1e-3), TAYLORODE_INVALID_ARGUMENT, ode, "option \"\"");
   expect(taylorode_set_option(ode, "h0", 1e-3) == TAYLORODE_OK, "option \"h0\"", taylorode_message(ode));
+  /* the problem's autonomy: 0 or 1 */
+  expect_refused(taylorode_set_option(ode, "autonomous", 2.0), TAYLORODE_INVALID_ARGUMENT, ode, "autonomous = 2");
+  expect(taylorode_set_option(ode, "autonomous", 1.0) == TAYLORODE_OK, "autonomous = 1", taylorode_message(ode));
 
   /* t_end must lie after t0, as in the Fortran integrate; advance_to may stay put */
   u[0] = 1.0;

@@ -12,6 +12,7 @@ program tester
    use test_integrator, only: collect_integrator
    use test_memory, only: collect_memory
    use test_interfaces, only: collect_interfaces
+   use test_legacy, only: collect_legacy
    use test_problems, only: collect_problems
    use test_reference, only: collect_reference
    use test_robustness, only: collect_robustness
@@ -32,6 +33,7 @@ program tester
       new_testsuite("reference", collect_reference), &
       new_testsuite("features", collect_features), &
       new_testsuite("interfaces", collect_interfaces), &
+      new_testsuite("legacy", collect_legacy), &
       new_testsuite("app", collect_app), &
       new_testsuite("robustness", collect_robustness), &
       new_testsuite("memory", collect_memory), &

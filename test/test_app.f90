@@ -27,6 +27,7 @@ contains
          new_unittest("stability-report", test_stability_report), &
          new_unittest("extreme-report", test_extreme_report), &
          new_unittest("bench-report", test_bench_report), &
+         new_unittest("accuracy-report", test_accuracy_report), &
          new_unittest("output-files", test_output_files) &
          ]
    end subroutine collect_app
@@ -149,8 +150,8 @@ contains
    !> Each command's help starts with its name; the overview shows the usage.
    subroutine test_help(error)
       type(error_type), allocatable, intent(out) :: error
-      character(len=*), parameter :: commands(6) = [character(len=9) :: &
-         "table", "vdp", "sweep", "stability", "extreme", "bench"]
+      character(len=*), parameter :: commands(7) = [character(len=9) :: &
+         "table", "vdp", "sweep", "stability", "extreme", "bench", "accuracy"]
       type(run_type) :: run
       integer :: k
       do k = 1, size(commands)
@@ -161,6 +162,10 @@ contains
             "help of "//trim(commands(k))//" starts with its name")
          if (allocated(error)) return
       end do
+      call run_app("table --help", run)
+      call check(error, has_line(run%stdout, "step budget per run (default 200,000)") .and. &
+         has_line(run%stdout, "timing runs for the median (default 3,"), "the main job's budget and repeats")
+      if (allocated(error)) return
       call run_app("--help", run)
       call check(error, run%exit_status == 0 .and. has_line(run%stdout, "usage: taylorode"), "overview help")
    end subroutine test_help
@@ -322,6 +327,41 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_bench_report
+
+   !> The accuracy report on two problems, two schemes, two tolerances: a table per problem
+   !> and the worst over both, one CSV row per run, every run ok and within the accuracy
+   !> suite's bounds (100 tolerances at t_end, 1000 on the grid); a run out of budget says so.
+   subroutine test_accuracy_report(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      type(line_type), allocatable :: table(:)
+      integer :: k
+      call fresh_scratch()
+      call run_app("accuracy --problems robertson,hires --schemes i-t-2,radau5 --tols 1e-3:1e-4 --out "// &
+         scratch//"/out", run)
+      call check(error, run%exit_status, 0, "accuracy run")
+      if (allocated(error)) return
+      call check(error, has_line(run%stdout, "robertson: 9 output times") .and. &
+         has_line(run%stdout, "hires: ") .and. has_line(run%stdout, "worst over the problems"), "report sections")
+      if (allocated(error)) return
+      call read_lines(scratch//"/out/accuracy.csv", table)
+      call check(error, size(table), 1 + 2*2*2, "header and two problems x two schemes x two tolerances")
+      if (allocated(error)) return
+      call check(error, table(1)%text, "problem,scheme,tol,status,accepted,rejected,error_end,error_grid,t_worst")
+      if (allocated(error)) return
+      do k = 2, size(table)
+         call check(error, index(table(k)%text, ",ok,") > 0, "run status: "//table(k)%text)
+         if (allocated(error)) return
+         call check(error, csv_field(table(k)%text, 7) >= 0.0_dp .and. csv_field(table(k)%text, 7) <= 100.0_dp .and. &
+            csv_field(table(k)%text, 8) <= 1000.0_dp, "error in tolerances: "//table(k)%text)
+         if (allocated(error)) return
+      end do
+      call check(error, index(table(2)%text, "robertson,i-t-2,1E-03,ok,") == 1, "row format: "//table(2)%text)
+      if (allocated(error)) return
+      call run_app("accuracy --problems hires --schemes ex-t-1 --tols 1e-3:1e-3 --budget 50", run)
+      call check(error, run%exit_status == 0 .and. has_line(run%stdout, "ex-t-1              budget") .and. &
+         has_line(run%stdout, "ex-t-1              -/- 1f"), "a run out of budget: budget, counted as failed")
+   end subroutine test_accuracy_report
 
    !> Field k (1-based) of a CSV row, read as a number.
    real(dp) function csv_field(row, k)

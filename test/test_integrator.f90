@@ -5,7 +5,8 @@ module test_integrator
    use taylorode_base_strings, only: format_integer, format_real
    use test_support, only: rk4_reference, stat_message
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
-      vdp_ic_prepared, vdp_ic_unprepared, linear_test_type, new_linear_test, brusselator_type, new_brusselator
+      vdp_ic_prepared, vdp_ic_unprepared, linear_test_type, new_linear_test, brusselator_type, new_brusselator, &
+      orego_type, new_orego
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, scheme_names, scheme_count, &
       integrator_options_type, integration_stats_type, paper_options, controller_pi, controller_pid, &
       norm_rms, advance_low, step_history_type, write_history_csv, estimate_embedded, estimate_doubling, estimate_defect, &
@@ -37,6 +38,25 @@ module test_integrator
       procedure :: jac_g => singular_jac_g
    end type singular_problem
 
+   !> OREGO whose J v is J from `jac` times v, column by column (what the default
+   !> add_jacobian_product does), in place of OREGO's own product
+   type, extends(orego_type) :: orego_matrix_product
+   contains
+      procedure :: add_jacobian_product => matrix_product
+   end type orego_matrix_product
+
+   !> u' = -1e4 u^3 (all in g): the implicit stage equation of a long step, u + c u^3 =
+   !> u0 with c ~ 1e4 h, makes Newton from u0 crawl (a simplified Newton iteration with
+   !> the Jacobian at u0 contracts like 1 - 1 / (3 c u0^2)): it converges only once h is
+   !> below about 1e-4
+   type, extends(ode_problem) :: cubic_decay_problem
+   contains
+      procedure :: f => zero_f
+      procedure :: g => cubic_g
+      procedure :: jac_f => zero_jac
+      procedure :: jac_g => cubic_jac_g
+   end type cubic_decay_problem
+
    !> A stiff part that returns NaN at every t > 0
    type, extends(ode_problem) :: poisoned_problem
    contains
@@ -64,10 +84,13 @@ contains
          new_unittest("non-finite-values", test_nonfinite_values), &
          new_unittest("newton-failures", test_newton_failures), &
          new_unittest("singular-newton-repeatedly", test_singular_repeatedly), &
+         new_unittest("newton-failures-retried-until-h-works", test_failures_retried), &
+         new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("library-defaults-on-paper-problem", test_library_defaults), &
-         new_unittest("extrapolated-step-stability", test_extrapolated_stability) &
+         new_unittest("extrapolated-step-stability", test_extrapolated_stability), &
+         new_unittest("i-t-2-jacobians-at-newton-matrices", test_it2_jacobians) &
          ]
    end subroutine collect_integrator
 
@@ -296,6 +319,64 @@ contains
       call check(error, abs(u(1) - u_plain(1)) < 1.0e-2_dp, "the Newton start changes the solution by "// &
          format_real(abs(u(1) - u_plain(1))))
    end subroutine test_library_defaults
+
+   !> i-t-2 takes J F in its residual from the problem's add_jacobian_product and
+   !> evaluates J only where it builds a Newton matrix (twice: J and, for F''[F], J at
+   !> U + e F): on OREGO at rtol 1e-6 that is 2 J per factorization, about 0.8 J per
+   !> step (7.5 when every residual evaluated J), and one product per Newton iteration.
+   !> OREGO's own product and J from `jac` times F give the same run bit for bit.
+   subroutine test_it2_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(orego_type) :: problem
+      type(orego_matrix_product) :: matrix_problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats, matrix_stats
+      type(status_type) :: stat
+      real(dp), allocatable :: u(:), u_matrix(:)
+
+      problem = new_orego()
+      matrix_problem%orego_type = new_orego()
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%work%jac_f_evaluations, 2*stats%work%lu_factorizations, &
+         "Jacobians against factorizations")
+      if (allocated(error)) return
+      call check(error, stats%work%jacobian_products, stats%work%newton_iterations, &
+         "products against Newton iterations")
+      if (allocated(error)) return
+      call check(error, stats%work%jac_f_evaluations < stats%accepted_steps, "Jacobians: "// &
+         format_integer(int(stats%work%jac_f_evaluations))//" in "//format_integer(int(stats%accepted_steps))//" steps")
+      if (allocated(error)) return
+      u_matrix = matrix_problem%u0
+      call integrate(matrix_problem, scheme, 0.0_dp, matrix_problem%t_end, u_matrix, options, matrix_stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, all(u_matrix == u) .and. matrix_stats%accepted_steps == stats%accepted_steps .and. &
+         matrix_stats%rejected_steps() == stats%rejected_steps() .and. &
+         matrix_stats%work%newton_iterations == stats%work%newton_iterations, &
+         "the run with J from jac times F differs from the run with OREGO's product")
+   end subroutine test_it2_jacobians
+
+   !> y + alpha J v with J from `jac`, column by column.
+   subroutine matrix_product(self, t, u, alpha, v, y)
+      class(orego_matrix_product), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(inout) :: y(:)
+      real(dp) :: jac(size(u), size(u))
+      integer :: j
+      call self%jac(t, u, jac)
+      do j = 1, size(u)
+         y = y + (alpha*v(j))*jac(:, j)
+      end do
+   end subroutine matrix_product
 
    !> One adaptive step with step doubling and local extrapolation multiplies the
    !> linear test equation's state by (2^p R(z/2, w/2)^2 - R(z, w)) / (2^p - 1), R
@@ -676,6 +757,69 @@ contains
       call check(error, u(1), 1.0_dp, "initial state returned")
    end subroutine test_singular_repeatedly
 
+   !> A first step far too long for Newton (u' = -1e4 u^3 from u = 1 with h0 = 1e6): the
+   !> failed attempts are retried with ever smaller steps until Newton converges, as
+   !> RADAU5 does, however many it takes (radau5 fails 18 attempts, i-t-1 16, more than
+   !> 10 of them in a row), and the integration succeeds; with options%max_failures = 10
+   !> it gives up with Newton's status, as every integration did before the limit
+   !> became optional.
+   subroutine test_failures_retried(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-1"]
+      type(cubic_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), exact
+      integer :: k
+
+      exact = 1.0_dp/sqrt(1.0_dp + 2.0e4_dp*1.0e6_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         options = integrator_options_type(rtol=1.0e-4_dp, atol=1.0e-10_dp, h0=1.0e6_dp)
+         u = [1.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 1.0e6_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, stats%rejected_newton > 10, trim(names(k))//": only "// &
+            format_integer(int(stats%rejected_newton))//" Newton failures: the test needs more than 10 in a row")
+         if (allocated(error)) return
+         call check(error, abs(u(1) - exact) <= 1.0e-2_dp*exact, trim(names(k))//": u(1e6) = "// &
+            format_real(u(1))//" against "//format_real(exact))
+         if (allocated(error)) return
+         options%max_failures = 10
+         u = [1.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 1.0e6_dp, u, options, stats, stat)
+         call check(error, stat%code /= status_ok .and. index(stat%message, "10 consecutive") > 0, &
+            trim(names(k))//" with max_failures = 10: "//stat_message(stat))
+         if (allocated(error)) return
+      end do
+   end subroutine test_failures_retried
+
+   !> Singular Newton matrices end a call at the fifth (RADAU5's limit), counted over
+   !> the call and not only in a row: i-t-1 on g = u / t meets a singular matrix at
+   !> every step from t = 0 whose size is a power of two, and with no limit on
+   !> consecutive failures the fifth is the end (status_singular_matrix).
+   subroutine test_singular_cumulative(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(singular_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+
+      call new_scheme("i-t-1", scheme, stat)
+      u = [1.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(h0=0.125_dp, min_shrink=0.0_dp), &
+         stats, stat)
+      call check(error, stat%code, status_singular_matrix, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, index(stat%message, "singular in 5 attempts") > 0, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%rejected_newton, 5_i8, "failed attempts")
+   end subroutine test_singular_cumulative
+
    !> Dense output on a grid against runs that stop exactly at each grid time.
    subroutine test_dense_output(error)
       type(error_type), allocatable, intent(out) :: error
@@ -808,6 +952,34 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac = 1.0_dp/max(t, tiny(1.0_dp))
    end subroutine singular_jac_g
+
+   subroutine zero_f(self, t, u, dudt)
+      class(cubic_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine zero_f
+
+   subroutine zero_jac(self, t, u, jac)
+      class(cubic_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine zero_jac
+
+   subroutine cubic_g(self, t, u, dudt)
+      class(cubic_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -1.0e4_dp*u**3
+   end subroutine cubic_g
+
+   subroutine cubic_jac_g(self, t, u, jac)
+      class(cubic_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = -3.0e4_dp*u(1)**2
+   end subroutine cubic_jac_g
 
    subroutine poisoned_jac(self, t, u, jac)
       class(poisoned_problem), intent(inout) :: self

@@ -16,7 +16,7 @@ module test_interfaces
       status_max_steps, status_unknown_scheme, status_evaluation_failed, status_output_error, status_out_of_memory
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol
    use taylorode_base_strings, only: format_real, format_integer
-   use taylorode_interfaces_legacy, only: legacy_solve, legacy_interpolate
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_interpolate, legacy_no_mass
    implicit none
    private
 
@@ -249,8 +249,8 @@ contains
             ! worst error inside the steps, worst mismatch at their ends, SOLOUT calls
             rpar = 0.0_dp
             call legacy_solve(trim(names(k)), 2, oscillator, oscillator, .false., x, y, two_pi, h, rtol, atol, 0, &
-               oscillator_jacobian, 0, oscillator_jacobian, 1, 2, 2, watch_steps, iout, work, 20, iwork, 20, &
-               rpar, ipar, idid)
+               oscillator_jacobian, 0, oscillator_jacobian, 1, 2, 2, legacy_no_mass, 0, 2, 0, watch_steps, iout, &
+               work, 20, iwork, 20, rpar, ipar, idid)
             call check(error, idid, 1, trim(names(k))//": IDID")
             if (allocated(error)) return
             evaluations(iout) = iwork(14)

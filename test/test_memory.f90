@@ -11,7 +11,7 @@ module test_memory
       integration_stats_type, step_history_type, event_functions_type, matrix_structure_type, band_structure, &
       dense_structure
    use taylorode_base_strings, only: format_integer
-   use taylorode_interfaces_legacy, only: legacy_solve
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass
    use, intrinsic :: iso_c_binding, only: c_int, c_long_long, c_double, c_ptr, c_funptr, c_char, c_null_char, &
       c_null_ptr, c_null_funptr, c_funloc, c_loc, c_f_pointer, c_associated
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -277,8 +277,8 @@ contains
          if (code == status_ok) code = c_integrate(ode, 0.0_dp, t_end, u)
       case default
          call legacy_solve(trim(case%scheme_name), n, legacy_chain, legacy_chain, .false., t_reached, u, t_end, h, &
-            tolerances, tolerances, 1, legacy_no_jacobian, 0, legacy_no_jacobian, 0, 1, 1, legacy_watch, 1, work, &
-            20, iwork, 20, rpar, ipar, idid)
+            tolerances, tolerances, 1, legacy_no_jacobian, 0, legacy_no_jacobian, 0, 1, 1, legacy_no_mass, 0, 1, &
+            1, legacy_watch, 1, work, 20, iwork, 20, rpar, ipar, idid)
       end select
       requests = large_allocations()
       call fail_allocations(-1_c_long_long, 0_c_long_long)

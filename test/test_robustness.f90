@@ -12,7 +12,7 @@ module test_robustness
       band_structure, dense_structure, integrator_type, integrate_fixed, status_step_underflow
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
    use taylorode_base_strings, only: format_real, fixed_length_real, format_integer
-   use taylorode_interfaces_legacy, only: legacy_solve
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite
    use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
       c_associated
@@ -651,7 +651,7 @@ contains
       if (allocated(error)) return
       call expect_invalid(integrator_options_type(max_growth=inf), "max_growth")
       if (allocated(error)) return
-      call expect_invalid(integrator_options_type(max_newton_iterations=1), "max_newton_iterations")
+      call expect_invalid(integrator_options_type(max_newton_iterations=-1), "max_newton_iterations")
    contains
       subroutine expect_invalid(options, word)
          type(integrator_options_type), intent(in) :: options
@@ -1166,8 +1166,8 @@ contains
          work = 0.0_dp
          iwork = 0
          call legacy_solve("radau5", 2, legacy_vdp, legacy_vdp, .false., x, y, 1.0_dp, h, rtol, atol, 0, &
-            legacy_no_jacobian, 0, legacy_no_jacobian, 0, cases(1, k), cases(2, k), legacy_no_output, 0, work, 20, &
-            iwork, 20, rpar, ipar, idid)
+            legacy_no_jacobian, 0, legacy_no_jacobian, 0, cases(1, k), cases(2, k), legacy_no_mass, 0, 2, 0, &
+            legacy_no_output, 0, work, 20, iwork, 20, rpar, ipar, idid)
          call check(error, idid == expected(k), "MLJAC, MUJAC = "//format_real(real(cases(1, k), dp))//", "// &
             format_real(real(cases(2, k), dp)))
          if (allocated(error)) return

@@ -37,6 +37,25 @@ module test_schemes
       procedure :: jac_g => cubic_jac_g
    end type cubic_problem
 
+   !> The cubic problem forced in time, with a Jacobian that depends on t too:
+   !> f = cos u + sin 3t, g = -(2 + sin t) u^3 - u + 2 cos 5t
+   type, extends(ode_problem) :: forced_cubic_problem
+   contains
+      procedure :: f => forced_cubic_f
+      procedure :: g => forced_cubic_g
+      procedure :: jac_f => cubic_jac_f_any
+      procedure :: jac_g => forced_cubic_jac_g
+   end type forced_cubic_problem
+
+   !> The forced cubic problem made autonomous: (u, tau) with tau' = 1 (in f)
+   type, extends(ode_problem) :: augmented_cubic_problem
+   contains
+      procedure :: f => augmented_cubic_f
+      procedure :: g => augmented_cubic_g
+      procedure :: jac_f => augmented_cubic_jac_f
+      procedure :: jac_g => augmented_cubic_jac_g
+   end type augmented_cubic_problem
+
    !> A stiff part whose Newton iteration runs away: g = -k atan(u), k large
    type, extends(ode_problem) :: runaway_problem
    contains
@@ -60,6 +79,7 @@ contains
          new_unittest("order-nonlinear-scalar", test_order_scalar), &
          new_unittest("order-van-der-pol", test_order_van_der_pol), &
          new_unittest("order-paper-si-t-2-linear", test_order_paper_linear), &
+         new_unittest("order-non-autonomous", test_order_non_autonomous), &
          new_unittest("stability-function", test_stability_function), &
          new_unittest("l-stability", test_l_stability), &
          new_unittest("embedded-difference", test_embedded_difference), &
@@ -134,6 +154,52 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_order_van_der_pol
+
+   !> Every scheme keeps its order on a problem that depends on t (f, g and J_g do):
+   !> the second-order Taylor schemes advance it as they advance the autonomous system
+   !> (t, U) with t' = 1 (to 1e-9 at 160 steps: what the differences in t leave, h^4
+   !> 1e-5 F_ttt per step), with dF/dt by differences in t. Declared autonomous
+   !> (wrongly), ex-t-2, si-t-2 and i-t-2 fall to first order: what dF/dt is for. Over
+   !> [0, 0.5] (over [0, 1] i-t-2's next error term still moves its observed order by 0.1).
+   subroutine test_order_non_autonomous(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(forced_cubic_problem) :: problem
+      type(augmented_cubic_problem) :: augmented
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp), parameter :: t_end = 0.5_dp
+      real(dp) :: reference(1), order, expected, u(1), v(2)
+      integer :: i
+      character(len=*), parameter :: second_order(4) = [character(len=12) :: "ex-t-2", "si-t-2", "i-t-2", &
+         "si-t-2-paper"]
+
+      reference = rk4_reference(problem, [1.0_dp], t_end)
+      do i = 1, scheme_count
+         call observed_order(error, trim(scheme_names(i)), problem, [1.0_dp], t_end, reference, order, expected)
+         if (allocated(error)) return
+         call check(error, order, expected, "order of "//trim(scheme_names(i))// &
+            " on u' = cos u + sin 3t - (2 + sin t) u^3 - u + 2 cos 5t: "//format_real(order, 3), thr=order_tolerance)
+         if (allocated(error)) return
+      end do
+      augmented%autonomous = .true.
+      do i = 1, size(second_order)
+         call new_scheme(trim(second_order(i)), scheme, stat)
+         u = [1.0_dp]
+         call integrate_fixed(problem, scheme, 0.0_dp, t_end, order_steps(1), u, stat)
+         v = [1.0_dp, 0.0_dp]
+         call integrate_fixed(augmented, scheme, 0.0_dp, t_end, order_steps(1), v, stat)
+         call check(error, abs(u(1) - v(1)) < 1.0e-9_dp, trim(second_order(i))//" on (t, U): "// &
+            format_real(u(1), 12)//" against "//format_real(v(1), 12))
+         if (allocated(error)) return
+      end do
+      problem%autonomous = .true.
+      do i = 1, 3
+         call observed_order(error, trim(second_order(i)), problem, [1.0_dp], t_end, reference, order)
+         if (allocated(error)) return
+         call check(error, order, 1.0_dp, trim(second_order(i))//" without dF/dt", thr=order_tolerance)
+         if (allocated(error)) return
+      end do
+   end subroutine test_order_non_autonomous
 
    !> The paper's SI-T-2 is second order on the linear test equation (its local
    !> error term J_g f - J_f g vanishes when f and g commute).
@@ -456,6 +522,68 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac(1, 1) = -6*u(1)**2 - 1
    end subroutine cubic_jac_g
+
+   subroutine forced_cubic_f(self, t, u, dudt)
+      class(forced_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = cos(u) + sin(3*t)
+   end subroutine forced_cubic_f
+
+   subroutine forced_cubic_g(self, t, u, dudt)
+      class(forced_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -(2 + sin(t))*u**3 - u + 2*cos(5*t)
+   end subroutine forced_cubic_g
+
+   subroutine cubic_jac_f_any(self, t, u, jac)
+      class(forced_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = -sin(u(1))
+   end subroutine cubic_jac_f_any
+
+   subroutine forced_cubic_jac_g(self, t, u, jac)
+      class(forced_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = -3*(2 + sin(t))*u(1)**2 - 1
+   end subroutine forced_cubic_jac_g
+
+   subroutine augmented_cubic_f(self, t, u, dudt)
+      class(augmented_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = cos(u(1)) + sin(3*u(2))
+      dudt(2) = 1.0_dp
+   end subroutine augmented_cubic_f
+
+   subroutine augmented_cubic_g(self, t, u, dudt)
+      class(augmented_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = -(2 + sin(u(2)))*u(1)**3 - u(1) + 2*cos(5*u(2))
+      dudt(2) = 0.0_dp
+   end subroutine augmented_cubic_g
+
+   subroutine augmented_cubic_jac_f(self, t, u, jac)
+      class(augmented_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+      jac(1, 1) = -sin(u(1))
+      jac(1, 2) = 3*cos(3*u(2))
+   end subroutine augmented_cubic_jac_f
+
+   subroutine augmented_cubic_jac_g(self, t, u, jac)
+      class(augmented_cubic_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+      jac(1, 1) = -3*(2 + sin(u(2)))*u(1)**2 - 1
+      jac(1, 2) = -cos(u(2))*u(1)**3 - 10*sin(5*u(2))
+   end subroutine augmented_cubic_jac_g
 
    subroutine runaway_f(self, t, u, dudt)
       class(runaway_problem), intent(inout) :: self

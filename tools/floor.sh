@@ -4,7 +4,7 @@
 #   bash tools/floor.sh [FLOOR.c] [ROUNDS]          (make floor FLOOR=path/to/it2_vdp.c)
 # Builds the floor with gcc -O2 and the app in the release profile, then runs them in
 # turn ROUNDS times (default 5; floor, taylorode, floor, ...) and prints each round's
-# nanoseconds per accepted step and the median ratio taylorode / floor. The floor
+# nanoseconds per accepted step and the median ratio taylorode / floor with its range. The floor
 # program must print "ns/step(min)=<number>" (it takes a repeat count argument).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -27,5 +27,6 @@ for round in $(seq 1 "$rounds"); do
   echo "round $round: floor $floor_ns ns/step, taylorode $(awk -v a="$ours_us" 'BEGIN { printf "%.0f", 1000 * a }') ns/step, ratio $ratio"
   ratios+=("$ratio")
 done
-median="$(printf '%s\n' "${ratios[@]}" | sort -n | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }')"
-echo "i-t-2 on the paper's Van der Pol run: median $median x the floor's time per step ($rounds rounds)"
+summary="$(printf '%s\n' "${ratios[@]}" | sort -n | awk '{ v[NR] = $1 }
+  END { printf "%.2f (%.2f-%.2f)", (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2, v[1], v[NR] }')"
+echo "i-t-2 on the paper's Van der Pol run: median $summary x the floor's time per step ($rounds rounds; their range in parentheses)"

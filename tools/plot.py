@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Turn the taylorode app's CSV files into the README's figures (needs matplotlib).
 
-usage: python3 tools/plot.py CSV_DIR PNG_DIR
+usage: python3 tools/plot.py [--errors LOW:HIGH] CSV_DIR PNG_DIR
 
 CSV_DIR holds what tools/figures.sh writes: the step histories vdp_<scheme>.csv of
 `taylorode vdp --history` (columns step,t,h,err,outcome,newton_iterations,u1,u2; t is
@@ -16,7 +16,10 @@ sweep` and s1_regions.csv of `taylorode stability`. Each figure answers one ques
                       CPU time against error beside CVODE and ARKODE on the peer harness's
                       problems, from the CSV files of `taylorode bench --csv` and the
                       harness (peers_*.csv, bench_*.csv): the peers in grey, each scheme in
-                      its colour, its other error estimates dotted with open markers
+                      its colour, its other error estimates dotted with open markers; when
+                      the files give cpu_s_min and cpu_s_max (tools/ratios.py --median-csv:
+                      cpu_s the median over the rounds) a bar spans each run's range over
+                      the rounds; --errors shades the errors the CPU ratios compare
 """
 import csv
 import math
@@ -221,8 +224,15 @@ def solver_style(solver):
     return colour, "-", marker, True, 1.4
 
 
-def draw_peer_series(axis, rows, problem, solvers):
+def sci(value):
+    """1e-08 -> 1e-8"""
+    return f"{value:.0e}".replace("e-0", "e-").replace("e+0", "e")
+
+
+def draw_peer_series(axis, rows, problem, solvers, errors=None):
     key = PEER_ERROR.get(problem, "err_end")
+    if errors:
+        axis.axhspan(*errors, color="#fff3c4", zorder=0, lw=0)
     for solver in solvers:
         points = []
         for r in rows:
@@ -232,22 +242,31 @@ def draw_peer_series(axis, rows, problem, solvers):
                 cpu, err = float(r["cpu_s"]), float(r[key])
             except (TypeError, ValueError):
                 continue
+            try:
+                low, high = float(r.get("cpu_s_min")), float(r.get("cpu_s_max"))
+            except (TypeError, ValueError):
+                low = high = cpu
             if cpu > 0 and err > 0 and math.isfinite(cpu) and math.isfinite(err):
-                points.append((cpu, err))
+                points.append((cpu, err, cpu - low if low > 0 else 0.0, high - cpu if high > 0 else 0.0))
         if not points:
             continue
         points.sort()
         colour, line, marker, filled, width = solver_style(solver)
-        cpu, err = zip(*points)
+        cpu, err, below, above = zip(*points)
         axis.loglog(cpu, err, color=colour, ls=line, marker=marker, ms=4, lw=width,
                     mfc=colour if filled else "none",
                     label=PEER_LABELS.get(solver, solver.removeprefix("taylorode_")))
+        if any(below) or any(above):
+            axis.errorbar(cpu, err, xerr=[below, above], fmt="none", ecolor=colour, elinewidth=0.8, capsize=0)
     axis.grid(True, which="both", lw=0.3)
     axis.xaxis.set_minor_formatter(ticker.NullFormatter())
 
 
-def peers_figures(csv_dir, png_dir):
+def peers_figures(csv_dir, png_dir, errors=None):
     rows = peer_rows(csv_dir)
+    rounds = max((int(r["rounds"]) for r in rows if (r.get("rounds") or "").isdigit()), default=1)
+    cpu_label = "CPU seconds per solve" + (f" (median over {rounds} rounds, bar: their range)" if rounds > 1 else "")
+    shaded = f"; shaded: the errors the ratios compare, {sci(errors[0])} to {sci(errors[1])}" if errors else ""
     if not any(r["solver"] in PEER_STYLES for r in rows):
         return
     solvers = [s for s in PEER_STYLES if any(r["solver"] == s for r in rows)]
@@ -256,13 +275,15 @@ def peers_figures(csv_dir, png_dir):
     solvers += ours
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.2))
     for axis, problem, start in zip(axes, ("vdp1e3_wp", "vdp1e3_up"), ("prepared", "unprepared")):
-        draw_peer_series(axis, rows, problem, solvers)
+        draw_peer_series(axis, rows, problem, solvers, errors)
         axis.set_title(f"Van der Pol mu = 1e3, {start} start: error at t = 3000", fontsize=10)
-        axis.set_xlabel("CPU seconds per solve")
+        axis.set_xlabel(cpu_label)
     axes[0].set_ylabel("max-norm error")
     axes[0].legend(fontsize=8, ncol=2)
-    fig.suptitle("Work-precision beside CVODE and ARKODE (wide grey lines), rtol = atol = tol from 1e-3 "
-                 "to 1e-8; each scheme with its default error estimate (solid) and others (dotted)", fontsize=10)
+    tols = sorted({float(r["tol"]) for r in rows if r["problem"] == "vdp1e3_wp" and r["tol"] not in ("", "paper")})
+    tol_text = f"from {sci(tols[-1])} to {sci(tols[0])}" if tols else ""
+    fig.suptitle(f"Work-precision beside CVODE and ARKODE (wide grey lines), rtol = atol = tol {tol_text};\n"
+                 f"each scheme with its default error estimate (solid) and others (dotted){shaded}", fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(png_dir, "peers_work_precision_vdp.png"), dpi=110)
     plt.close(fig)
@@ -275,7 +296,7 @@ def peers_figures(csv_dir, png_dir):
         if k >= len(problems):
             axis.set_visible(False)
             continue
-        draw_peer_series(axis, rows, problems[k], solvers)
+        draw_peer_series(axis, rows, problems[k], solvers, errors)
         axis.set_title(f"{problems[k]} ({PEER_ERROR.get(problems[k], 'err_end')})", fontsize=9)
         axis.tick_params(labelsize=7)
     handles, labels = {}, {}
@@ -283,7 +304,7 @@ def peers_figures(csv_dir, png_dir):
         for handle, label in zip(*axis.get_legend_handles_labels()):
             handles.setdefault(label, handle)
     fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=min(len(handles), 6), fontsize=8)
-    fig.supxlabel("CPU seconds per solve", y=0.06)
+    fig.supxlabel(cpu_label + shaded, y=0.06)
     fig.supylabel("error (the harness's measure)")
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(os.path.join(png_dir, "peers_work_precision_all.png"), dpi=90)
@@ -346,9 +367,19 @@ def stability_figure(csv_dir, png_dir):
 
 
 def main():
-    if len(sys.argv) != 3:
+    arguments = sys.argv[1:]
+    errors = None
+    if arguments[:1] == ["--errors"] and len(arguments) > 1:
+        try:
+            errors = tuple(sorted(float(v) for v in arguments[1].split(":")))
+        except ValueError:
+            sys.exit(f"plot.py: --errors wants LOW:HIGH, not {arguments[1]}")
+        if len(errors) != 2:
+            sys.exit(f"plot.py: --errors wants LOW:HIGH, not {arguments[1]}")
+        arguments = arguments[2:]
+    if len(arguments) != 2:
         sys.exit(__doc__)
-    csv_dir, png_dir = sys.argv[1], sys.argv[2]
+    csv_dir, png_dir = arguments
     os.makedirs(png_dir, exist_ok=True)
     data = histories(csv_dir)
     if data:
@@ -356,7 +387,7 @@ def main():
         van_der_pol_step_sizes(data, png_dir)
     work_precision_figure(csv_dir, png_dir)
     stability_figure(csv_dir, png_dir)
-    peers_figures(csv_dir, png_dir)
+    peers_figures(csv_dir, png_dir, errors)
 
 
 if __name__ == "__main__":

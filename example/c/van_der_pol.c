@@ -46,6 +46,7 @@ int main(void) {
   }
   taylorode_set_functions(ode, f, g, jac_f, jac_g, &mu);
   taylorode_set_tolerances(ode, 1e-8, 1e-8);
+  taylorode_set_option(ode, "autonomous", 1); /* f and g do not depend on t */
   status = taylorode_integrate(ode, 0.0, 10.0, u);
   if (status != TAYLORODE_OK) {
     fprintf(stderr, "taylorode_integrate: %s\n", taylorode_message(ode));

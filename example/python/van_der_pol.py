@@ -21,6 +21,7 @@ lib.taylorode_create.restype = ctypes.c_void_p
 lib.taylorode_create.argtypes = [ctypes.c_char_p, ctypes.c_int, ctypes.POINTER(ctypes.c_int)]
 lib.taylorode_set_functions.argtypes = [ctypes.c_void_p, RHS, RHS, RHS, RHS, ctypes.c_void_p]
 lib.taylorode_set_tolerances.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double]
+lib.taylorode_set_option.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_double]
 lib.taylorode_integrate.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, double_p]
 lib.taylorode_message.restype = ctypes.c_char_p
 lib.taylorode_message.argtypes = [ctypes.c_void_p]
@@ -69,6 +70,7 @@ if not ode:
     sys.exit(f"taylorode_create failed with status {status.value}")
 lib.taylorode_set_functions(ode, f, g, jac_f, jac_g, None)
 lib.taylorode_set_tolerances(ode, 1e-8, 1e-8)
+lib.taylorode_set_option(ode, b"autonomous", 1.0)  # f and g do not depend on t
 u = np.array([2.0, 0.0])
 code = lib.taylorode_integrate(ode, 0.0, 10.0, u.ctypes.data_as(double_p))
 if code != 0:

@@ -6,7 +6,7 @@ program test_petsc
    use, intrinsic :: iso_fortran_env, only: output_unit
    use taylorode, only: dp, i8, scheme_type, new_scheme, integrate, integrate_fixed, integrator_options_type, &
       estimate_embedded, &
-      integration_stats_type, status_type, status_ok, reduce_max
+      integration_stats_type, status_type, status_ok, status_invalid_argument, reduce_max
    use taylorode_petsc, only: petsc_start, petsc_stop, reaction_diffusion_type, new_reaction_diffusion, &
       grid_taylor_type, new_grid_taylor, integrate_arkimex, arkimex_stats_type, table_imex_rk21, table_si_t_1
    use test_petsc_problems, only: shrinking_mode_type, new_shrinking_mode
@@ -30,6 +30,7 @@ program test_petsc
    call test_second_order("si-t-2")
    call test_second_order("i-t-2")
    call test_first_order("si-t-1")
+   call test_non_autonomous_refused()
    call test_arkimex_agreement(table_imex_rk21, "imex-rk21")
    call test_arkimex_agreement(table_si_t_1, "si-t-1")
    call test_arkimex_adaptive()
@@ -101,6 +102,27 @@ contains
       call distributed%destroy()
       call alone%destroy()
    end subroutine test_agreement
+
+   !> A problem not declared autonomous is refused with a message (these schemes do not
+   !> difference F in t), not advanced to first order.
+   subroutine test_non_autonomous_refused()
+      type(reaction_diffusion_type) :: problem
+      type(grid_taylor_type) :: grid_scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp), allocatable :: u(:)
+      call new_reaction_diffusion(problem, points, points, .false., stat)
+      problem%autonomous = .false.
+      allocate (u(problem%grid%owned))
+      call problem%initial_state(u)
+      call new_grid_taylor("si-t-2", grid_scheme, stat)
+      call integrate(problem, grid_scheme, 0.0_dp, t_end, u, options, stats, stat)
+      call report(stat%code == status_invalid_argument .and. index(stat%message, "autonomous") > 0, &
+         "non-autonomous-refused", status_text(stat))
+      call grid_scheme%destroy()
+      call problem%destroy()
+   end subroutine test_non_autonomous_refused
 
    !> Fixed steps of the distributed scheme on the shrinking mode, whose exact solution
    !> is known: the error falls by 4 when h halves (observed order in [1.9, 2.2] from 80 to

@@ -2,8 +2,9 @@
 !> initial state, recommended tolerances, published solution): Van der Pol (the
 !> paper's problem, both splittings and initial conditions), the linear test
 !> equation, Robertson, HIRES, OREGO, E5, the banded Brusselator, Prothero-Robinson,
-!> POLLU (air pollution chemistry) and the banded Medical Akzo Nobel problem, and
-!> `new_test_problem` to create any of them by name.
+!> POLLU (air pollution chemistry), the banded Medical Akzo Nobel problem and the
+!> transistor amplifier (an index-1 differential-algebraic system with a mass matrix,
+!> for radau5), and `new_test_problem` to create any of them by name.
 module taylorode_testset
    use taylorode_testset_test_problem, only: test_problem_type
    use taylorode_testset_van_der_pol, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
@@ -17,6 +18,7 @@ module taylorode_testset
    use taylorode_testset_prothero_robinson, only: prothero_robinson_type, new_prothero_robinson
    use taylorode_testset_pollution, only: pollution_type, new_pollution
    use taylorode_testset_medical_akzo, only: medical_akzo_type, new_medical_akzo
+   use taylorode_testset_transistor_amplifier, only: transistor_amplifier_type, new_transistor_amplifier
    use taylorode_testset_registry, only: new_test_problem, test_problem_names, test_problem_count
    implicit none
    private
@@ -28,6 +30,7 @@ module taylorode_testset
    public :: robertson_type, new_robertson, hires_type, new_hires, orego_type, new_orego, e5_type, &
       new_e5, brusselator_type, new_brusselator, prothero_robinson_type, new_prothero_robinson
    public :: pollution_type, new_pollution, medical_akzo_type, new_medical_akzo
+   public :: transistor_amplifier_type, new_transistor_amplifier
    public :: hires_split_exchange_stiff, hires_split_reaction_stiff, orego_split_fast_stiff, &
       orego_split_bilinear_stiff
    public :: new_test_problem, test_problem_names, test_problem_count

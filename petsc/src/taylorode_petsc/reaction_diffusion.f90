@@ -64,6 +64,7 @@ contains
       real(dp), intent(in), optional :: spacing
       call new_grid(problem%grid, nx, ny, alone, stat)
       if (stat%code /= status_ok) return
+      problem%autonomous = .true.
       if (present(diffusion)) problem%diffusion = diffusion
       if (present(decay)) problem%decay = decay
       problem%hx = 1.0_dp/real(nx + 1, dp)

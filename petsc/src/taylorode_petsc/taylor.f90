@@ -18,7 +18,9 @@
 !> steps while h changes by at most 20 % and its solves stay cheap (building the
 !> hierarchy costs more than a solve). The scheme's work counters count residuals as f
 !> and g evaluations, Krylov solves as linear solves and preconditioner set-ups as
-!> factorizations.
+!> factorizations. They take autonomous problems (problem%autonomous): the library's
+!> own schemes difference F in t where F depends on it, these do not, and refuse such
+!> a problem rather than advance it to first order.
 module taylorode_petsc_taylor
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use taylorode, only: dp, i8, scheme_type, new_scheme, ode_problem, status_type, status_ok, reduce_max, &
@@ -150,6 +152,11 @@ contains
       type(status_type), intent(inout) :: stat
       select type (problem)
       class is (grid_problem_type)
+         if (.not. problem%autonomous) then
+            call set_status(stat, status_invalid_argument, self%name//" (grid): the problem must be autonomous "// &
+               "(problem%autonomous): these schemes do not difference F in t")
+            return
+         end if
          if (.not. self%resize(problem, n, stat)) return
          if (allocated(self%f0)) then
             deallocate (self%f0, self%g0, self%rhs0, self%known, self%residual, self%increment, self%f1, &
@@ -181,6 +188,11 @@ contains
       real(dp), intent(in), optional :: guess(:)
       select type (problem)
       class is (grid_problem_type)
+         if (.not. problem%autonomous) then
+            u1 = u0
+            call set_code(stat, status_invalid_argument)
+            return
+         end if
          call advance_on_grid(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class default
          u1 = u0

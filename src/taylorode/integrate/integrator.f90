@@ -8,7 +8,7 @@ module taylorode_integrate_integrator
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
-      status_output_error, status_out_of_memory, status_description
+      status_output_error, status_out_of_memory, status_description, status_singular_matrix
    use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
    use taylorode_base_strings, only: fixed_length_real
@@ -37,6 +37,16 @@ module taylorode_integrate_integrator
    !> States kept for the dense output: the current one and the starts of three steps
    !> before (the interpolant through four states and its error estimate)
    integer, parameter :: ring_size = 4
+   !> Attempts of one call whose Newton matrix is singular before the integration gives
+   !> up with status_singular_matrix (RADAU5's NSING limit: a singular matrix at one step
+   !> size is cured by the next, a matrix singular again and again is the problem's)
+   integer, parameter :: singular_limit = 5
+   !> NaN/Inf values or rejected evaluations in attempts that do not get past the point
+   !> where the first of them happened, before giving up (when options%max_failures
+   !> is 0: no limit on consecutive failures)
+   integer, parameter :: trouble_limit = 10
+   !> First step relative to max(1, |t0|) when the initial data give none (RADAU5's 1e-6)
+   real(dp), parameter :: first_step_fallback = 1.0e-6_dp
 
    !> An integration that can be continued: `init` once, then `advance_to` as often as
    !> needed with the same problem type and scheme. Between calls the caller may
@@ -97,11 +107,15 @@ contains
    !>
    !> Failed attempts (Newton failure, NaN or Inf, an evaluation the problem rejected)
    !> are retried from the same state with a quarter of the step (after a Newton
-   !> failure: the scheme's factor, by default the same quarter); the integration
-   !> gives up after options%max_failures consecutive ones, or after as many NaN/Inf
-   !> or rejected evaluations without getting past the point where the first of them
-   !> happened (status_nonfinite, status_evaluation_failed). Messages are built in
-   !> fixed-length buffers, so concurrent integrations on separate objects are safe.
+   !> failure: the scheme's factor, by default the same quarter), for as long as the
+   !> step size stays above h_min and the roundoff of t (status_step_underflow, whose
+   !> message names the last failure) and the step budget lasts, as RADAU5 does. The
+   !> integration also gives up after the fifth attempt of a call whose Newton matrix
+   !> is singular (status_singular_matrix, RADAU5's limit), after 10 NaN/Inf or rejected
+   !> evaluations without getting past the point where the first of them happened
+   !> (status_nonfinite, status_evaluation_failed), and, when options%max_failures > 0,
+   !> after that many consecutive failed attempts. Messages are built in fixed-length
+   !> buffers, so concurrent integrations on separate objects are safe.
    subroutine integrate(problem, scheme, t0, t_end, u, options, stats, stat, history, t_out, u_out, observer, events)
       !> The problem
       class(ode_problem), intent(inout) :: problem
@@ -184,8 +198,9 @@ contains
 
    !> Check the sizes, times, initial state and options, prepare the scheme for the
    !> problem (forgetting what it kept from earlier integrations) and choose the first
-   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w; when either norm is tiny
-   !> 1e-6 max(1, |t0|), which stays above the roundoff of t0).
+   !> step size (options%h0, or 0.01 |U0|_w / |F(U0)|_w; when either norm is tiny, or
+   !> the problem has a mass matrix, 1e-6 max(1, |t0|), which stays above the roundoff
+   !> of t0).
    subroutine init(self, problem, scheme, t0, u0, options, stat)
       !> The integrator
       class(integrator_type), intent(inout) :: self
@@ -248,7 +263,10 @@ contains
       if (stat%code /= status_ok) return
 
       self%h = options%h0
-      if (self%h == 0.0_dp) then
+      if (self%h == 0.0_dp .and. problem%has_mass) then
+         ! F is M U', not U': no estimate from it; RADAU5's first step (1e-6)
+         self%h = first_step_fallback*max(1.0_dp, abs(t0))
+      else if (self%h == 0.0_dp) then
          work_before = scheme%counters
          call evaluate_start(self, problem, scheme, t0, u0, self%stepper%delta, stat)
          call add_work(self%total, scheme%counters, work_before)
@@ -268,7 +286,7 @@ contains
       !> size (a zero state or derivative) h = 1e-6 max(1, |t0|).
       subroutine first_step_size()
          real(dp) :: second_derivative, limit, fallback
-         fallback = 1.0e-6_dp*max(1.0_dp, abs(t0))
+         fallback = first_step_fallback*max(1.0_dp, abs(t0))
          call self%stepper%set_weights(problem, options, u0, u0)
          size_u = self%stepper%weighted_norm(problem, options, u0)
          size_f = self%stepper%weighted_norm(problem, options, self%stepper%delta)
@@ -360,7 +378,7 @@ contains
       real(dp) :: t, h, h_next, h_natural, err, nan, trouble_end, t_stop
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
-      integer :: failures, troubles, outcome, next_output
+      integer :: failures, troubles, singular, outcome, next_output, last_failure
       logical :: last, need_step, stop_here, rhs_pending, prebuilt
       character(len=400) :: text
 
@@ -400,6 +418,8 @@ contains
       attempts = 0
       failures = 0
       troubles = 0
+      singular = 0
+      last_failure = status_ok
       trouble_end = t
       do while (t < t_target)
          if (attempts >= self%options%max_steps) then
@@ -411,9 +431,11 @@ contains
          h_natural = h
          last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
          if (last) h = t_target - t
-         if (h < self%options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t)) then
+         if (h < self%options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t) .or. .not. (h > 0.0_dp)) then
             write (text, '("integrate: step size ", a, " below the minimum step or the roundoff of t = ", a)') &
                trim(fixed_length_real(h, 7)), trim(fixed_length_real(t, 7))
+            if (failures > 0) write (text, '(a, " after ", i0, " consecutive failed attempts, last: ", a)') &
+               trim(text), failures, trim(status_description(last_failure))
             call set_status(stat, status_step_underflow, trim(text))
             exit
          end if
@@ -481,6 +503,8 @@ contains
             select case (outcome)
             case (attempt_rejected_error)
                call_stats%rejected_error = call_stats%rejected_error + 1
+               if (self%total%accepted_steps + call_stats%accepted_steps == 0) &
+                  call_stats%rejected_error_start = call_stats%rejected_error_start + 1
             case (attempt_rejected_constraint)
                call_stats%rejected_constraint = call_stats%rejected_constraint + 1
             case default
@@ -490,6 +514,8 @@ contains
          case default
             ! failed attempt: retry from the same state with a smaller step
             failures = failures + 1
+            last_failure = step_stat%code
+            if (step_stat%code == status_singular_matrix) singular = singular + 1
             select case (outcome)
             case (attempt_failed_nonfinite, attempt_failed_evaluation)
                if (outcome == attempt_failed_nonfinite) then
@@ -509,13 +535,19 @@ contains
                call set_status(stat, status_evaluation_failed, trim(text))
                exit
             end if
-            if (failures >= self%options%max_failures) then
+            if (self%options%max_failures > 0 .and. failures >= self%options%max_failures) then
                write (text, '("integrate: gave up after ", i0, " consecutive failed attempts at t = ", a, &
                   &", last: ", a)') failures, trim(fixed_length_real(t, 7)), trim(status_description(step_stat%code))
                call set_status(stat, step_stat%code, trim(text))
                exit
             end if
-            if (troubles >= self%options%max_failures) then
+            if (singular >= singular_limit) then
+               write (text, '("integrate: the Newton matrix was singular in ", i0, " attempts (the last at t = ", &
+                  &a, ", h = ", a, ")")') singular, trim(fixed_length_real(t, 7)), trim(fixed_length_real(h, 7))
+               call set_status(stat, status_singular_matrix, trim(text))
+               exit
+            end if
+            if (troubles >= merge(self%options%max_failures, trouble_limit, self%options%max_failures > 0)) then
                write (text, '("integrate: ", a, " in ", i0, " attempts that could not get past t = ", a, &
                   &" (stopped at t = ", a, ")")') trim(status_description(step_stat%code)), troubles, &
                   trim(fixed_length_real(trouble_end, 7)), trim(fixed_length_real(t, 7))
@@ -785,6 +817,7 @@ contains
       total%t_reached = call_stats%t_reached
       total%accepted_steps = total%accepted_steps + call_stats%accepted_steps
       total%rejected_error = total%rejected_error + call_stats%rejected_error
+      total%rejected_error_start = total%rejected_error_start + call_stats%rejected_error_start
       total%rejected_newton = total%rejected_newton + call_stats%rejected_newton
       total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
       total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation

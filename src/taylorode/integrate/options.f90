@@ -111,14 +111,15 @@ module taylorode_integrate_options
       real(dp) :: min_shrink = 0.2_dp
       !> Attempted steps allowed (accepted and rejected)
       integer(i8) :: max_steps = 1000000_i8
-      !> Newton iterations allowed per nonlinear system (at least 2)
-      integer :: max_newton_iterations = 10
+      !> Newton iterations allowed per nonlinear system (at least 1); 0: the scheme's
+      !> own, 7 for radau5 (RADAU5's NIT), 10 for the others
+      integer :: max_newton_iterations = 0
       !> Keep factored Newton matrices across steps while h changes by at most 20 %
       !> and Newton contracts fast (0.1 or better); off: one factorization per solve
       logical :: reuse_newton_matrix = .true.
-      !> Newton stops when its error is below this fraction of the weights w_i; 0 lets
-      !> the scheme choose (Hairer's FNEWT = max(10 eps / rtol, min(0.03, sqrt(rtol)));
-      !> with the paper's Newton test 1e-4)
+      !> Newton stops when its error is below this fraction of the weights w_i (usually
+      !> below 1: RADAU5's FNEWT, WORK(4)); 0 lets the scheme choose (Hairer's FNEWT =
+      !> max(10 eps / rtol, min(0.03, sqrt(rtol))); with the paper's Newton test 1e-4)
       real(dp) :: newton_fraction = 0.0_dp
       !> Newton's stop test estimates the error left from the contraction (RADAU5's
       !> test); off: the last increment must be below the tolerance (the paper's)
@@ -131,8 +132,11 @@ module taylorode_integrate_options
       !> Start Newton's method from the extrapolation of the last accepted step (the
       !> line through its two states); off: from the state at the start of the step
       logical :: extrapolate_newton_start = .true.
-      !> Consecutive failed attempts (Newton failure, NaN/Inf values) before giving up
-      integer :: max_failures = 10
+      !> Consecutive failed attempts (Newton failure, NaN/Inf values, a rejected
+      !> evaluation) before giving up; 0: no limit, as RADAU5 (a failed attempt is retried
+      !> with a smaller step until it succeeds or the step size falls below h_min or the
+      !> roundoff of t: status_step_underflow, the last failure named in the message)
+      integer :: max_failures = 0
       !> advance_scheme, advance_high or advance_low (with the embedded estimate; auto
       !> then means embedded)
       integer :: advance = advance_scheme
@@ -325,16 +329,15 @@ contains
       if (options%max_steps < 1) then
          call invalid("max_steps must be at least 1"); return
       end if
-      if (options%max_newton_iterations < 2) then
-         call invalid("max_newton_iterations must be at least 2 (a kept Newton matrix needs a second "// &
-            "iteration to measure its contraction)"); return
+      if (options%max_newton_iterations < 0) then
+         call invalid("max_newton_iterations must be at least 1 (or 0 for the scheme's own)"); return
       end if
-      if (.not. (options%newton_fraction == 0.0_dp .or. (finite_in(options%newton_fraction, 0.0_dp, 1.0_dp) .and. &
-         options%newton_fraction > 0.0_dp .and. options%newton_fraction < 1.0_dp))) then
-         call invalid("newton_fraction must be in (0, 1) (or 0 for the scheme's default)"); return
+      if (.not. (options%newton_fraction == 0.0_dp .or. (finite_at_least(options%newton_fraction, 0.0_dp) .and. &
+         options%newton_fraction > 0.0_dp))) then
+         call invalid("newton_fraction must be finite and > 0 (or 0 for the scheme's default)"); return
       end if
-      if (options%max_failures < 1) then
-         call invalid("max_failures must be at least 1"); return
+      if (options%max_failures < 0) then
+         call invalid("max_failures must be >= 0 (0: no limit)"); return
       end if
       if (all(options%advance /= [advance_scheme, advance_high, advance_low])) then
          call invalid("advance must be advance_scheme, advance_high or advance_low"); return

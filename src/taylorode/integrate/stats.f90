@@ -15,6 +15,9 @@ module taylorode_integrate_stats
       integer(i8) :: accepted_steps = 0
       !> Steps rejected by the error test
       integer(i8) :: rejected_error = 0
+      !> Of these, the ones before the first accepted step of the integration (the search
+      !> for a first step size; RADAU5's NREJCT leaves them out)
+      integer(i8) :: rejected_error_start = 0
       !> Attempts that failed in Newton (singular matrix, divergence, no convergence)
       integer(i8) :: rejected_newton = 0
       !> Attempts that produced NaN or Inf

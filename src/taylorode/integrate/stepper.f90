@@ -159,6 +159,7 @@ contains
       call sized(self%u_step_end, n, what, stat)
       call sized(self%guess, n, what, stat)
       self%newton%max_iterations = options%max_newton_iterations
+      if (self%newton%max_iterations == 0) self%newton%max_iterations = scheme%newton_iterations
       self%newton%reuse_matrix = options%reuse_newton_matrix
       self%newton%estimate_error = options%newton_error_estimate
       self%newton%exact_matrix = options%exact_newton_matrix
@@ -331,6 +332,7 @@ contains
       type(status_type), intent(inout) :: step_stat
       real(dp) :: factor, hold_low, hold_high, propagation
       integer :: i
+      logical :: refined
 
       h_next = h
       call set_code(step_stat, status_ok)
@@ -378,6 +380,20 @@ contains
          if (outcome == attempt_rejected_constraint) return
       end if
       err = self%weighted_norm(problem, options, self%delta)
+      if (err > 1.0_dp .and. scheme%refines_estimate .and. self%estimate == estimate_embedded) then
+         ! the scheme's second estimate, when it has one for this attempt (radau5: RADAU5's
+         ! filtered estimate at the first step and on retries)
+         call problem%clear_rejection()
+         call scheme%refine_estimate(problem, t, h, self%delta, refined, step_stat)
+         if (refined) then
+            call conclude(self%delta)
+            if (outcome /= attempt_accepted) then
+               h_next = failure_shrink*h
+               return
+            end if
+            err = self%weighted_norm(problem, options, self%delta)
+         end if
+      end if
       if (allocated(self%defect)) then
          if (size(self%defect) > 0) err = max(err, self%weighted_norm(problem, options, self%defect)/defect_limit)
       end if

@@ -320,8 +320,9 @@ contains
    !> `taylorode_set_option`: a real or whole-number option by name ("h0", "h_min",
    !> "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction", "max_steps",
    !> "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0 or 1),
-   !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)), exactly as written
-   !> here. The integrator checks the values when it starts.
+   !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)) or the problem's
+   !> "autonomous" (1: f and g do not depend on t, 0: they may, the default), exactly
+   !> as written here. The integrator checks the values when it starts.
    integer(c_int) function taylorode_set_option(handle, name, value) result(code) &
       bind(c, name="taylorode_set_option")
       type(c_ptr), value :: handle
@@ -372,6 +373,8 @@ contains
             end if
          case ("norm")
             if (whole_number(value, 1.0_dp)) options%norm = merge(norm_rms, norm_max, value == 1.0_dp)
+         case ("autonomous")
+            if (whole_number(value, 1.0_dp)) session%problem%autonomous = value == 1.0_dp
          case default
             call set_status(stat, status_invalid_argument, 'taylorode_set_option: unknown option "'//option//'"')
          end select

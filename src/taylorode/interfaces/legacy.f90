@@ -9,44 +9,66 @@
 !> is RADAU5's argument list with the scheme's name in front: FCN(N, X, Y, F, RPAR,
 !> IPAR) is the whole right-hand side (everything stiff), JAC(N, X, Y, DFY, LDFY,
 !> RPAR, IPAR) its Jacobian (IJAC = 0: finite differences, JAC is not called), band
-!> storage when MLJAC < N as RADAU5's (DFY(I - J + MUJAC + 1, J)), no mass matrix
-!> (IMAS = 0), SOLOUT(NR, XOLD, X, Y, CONT, LRC, N, RPAR, IPAR, IRTRN) called after
-!> every accepted step when IOUT = 1 (IRTRN < 0 stops; TAYLORODE_CONTR(I, S, CONT,
-!> LRC) interpolates component I at S inside the step). TAYLORODE_SPLIT takes f and g
-!> apart: FCNF, FCNG, JACF (IJACF), JACG (IJACG). RPAR and IPAR are passed to the
-!> user's routines untouched.
+!> storage when MLJAC < N as RADAU5's (DFY(I - J + MUJAC + 1, J)), SOLOUT(NR, XOLD,
+!> X, Y, CONT, LRC, N, RPAR, IPAR, IRTRN) called after every accepted step when IOUT
+!> /= 0 (IRTRN < 0 stops; TAYLORODE_CONTR(I, S, CONT, LRC) interpolates component I at
+!> S inside the step). TAYLORODE_SPLIT takes f and g apart: FCNF, FCNG, JACF (IJACF),
+!> JACG (IJACG). RPAR and IPAR are passed to the user's routines untouched.
 !>
-!> Inputs in IWORK and WORK (0 means the default): IWORK(2) the step budget (100000),
-!> IWORK(3) Newton iterations per system (10), WORK(2) the safety factor (0.9),
-!> WORK(7) the largest step (XEND - X). Outputs: IWORK(14) evaluations of FCN (f and
-!> g together: the larger count), IWORK(15) Jacobian evaluations, IWORK(16) attempted
-!> steps, IWORK(17) accepted, IWORK(18) rejected, IWORK(19) LU factorizations,
-!> IWORK(20) linear solves; X, Y where the integration stopped, H the next step.
-!> IDID: 1 success, 2 stopped by SOLOUT, -1 inconsistent input or unknown scheme, -2
-!> step budget, -3 step size too small, -4 Newton matrix repeatedly singular, -5
-!> Newton failed repeatedly, -6 NaN or Inf, -7 the problem rejected evaluations, -8
-!> memory could not be allocated (the Newton matrices of a large N, say).
+!> IWORK(1:10) and WORK(1:9) are RADAU5's settings with RADAU5's defaults and checks
+!> (an out-of-range value is IDID = -1, never a silent default; see the README for the
+!> table and for what differs); TAYLORODE('radau5', ...) integrates as RADAU5 does
+!> (RADAU5's tolerance transformation, RMS norm and step-size rules), the other schemes
+!> keep the library's meaning of a tolerance. IWORK(11) = K > 0 makes IPAR(K) the
+!> evaluation flag: set to 0 before every call of FCN or JAC, which sets it > 0 when it
+!> cannot evaluate at the point given (the step is retried shorter) or < 0 to stop
+!> (IDID = -7). Outputs: IWORK(12) the reason of a negative IDID (TAYLORODE_MESSAGE
+!> turns it into a sentence), IWORK(13) the component or setting it concerns,
+!> IWORK(14:20) RADAU5's statistics; X, Y where the integration stopped, H the next
+!> step. IDID: 1 success, 2 stopped by SOLOUT, -1 inconsistent input or unknown scheme,
+!> -2 step budget, -3 step size too small, -4 Newton matrix repeatedly singular, -5
+!> Newton failed repeatedly (only with a failure limit, which the legacy entry does not
+!> set), -6 NaN or Inf, -7 the problem rejected evaluations, -8 memory could not be
+!> allocated (the Newton matrices of a large N, say).
 module taylorode_interfaces_legacy
    use taylorode_base_kinds, only: dp, i8
-   use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
-      status_size_mismatch, status_nonfinite, status_singular_matrix, status_newton_diverged, &
-      status_newton_not_converged, status_step_underflow, status_max_steps, status_unknown_scheme, &
+   use taylorode_base_status, only: status_type, status_ok, status_singular_matrix, status_newton_diverged, &
+      status_newton_not_converged, status_step_underflow, status_max_steps, status_nonfinite, &
       status_evaluation_failed, status_out_of_memory
    use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
-   use taylorode_integrate_options, only: integrator_options_type
+   use taylorode_schemes_radau5, only: radau5_type
+   use taylorode_integrate_options, only: integrator_options_type, norm_rms
+   use taylorode_integrate_controller, only: controller_auto, controller_i
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrator_type
    use taylorode_integrate_step, only: accepted_step_type, newton_form, hermite_degree
    use taylorode_integrate_observer, only: step_observer_type
    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_f_pointer, c_null_ptr
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
    implicit none
    private
 
-   public :: legacy_solve, legacy_interpolate, fcn_interface, jac_interface, solout_interface
+   public :: legacy_solve, legacy_interpolate, legacy_message, legacy_no_mass, fcn_interface, jac_interface, &
+      mas_interface, solout_interface
+
+   !> Why a call ended with a negative IDID (IWORK(12)); legacy_message says it in words
+   integer, parameter :: reason_none = 0, reason_storage = 1, reason_size = 2, reason_interval = 3, &
+      reason_tolerance = 4, reason_uround = 5, reason_budget_setting = 6, reason_newton_setting = 7, &
+      reason_index_sum = 8, reason_index_high = 9, reason_second_order = 10, reason_second_order_unsupported = 11, &
+      reason_safety = 12, reason_jacobian_reuse = 13, reason_newton_stop = 14, reason_hold = 15, &
+      reason_step_factors = 16, reason_largest_step = 17, reason_bandwidths = 18, reason_mass_bandwidths = 19, &
+      reason_mass_scheme = 20, reason_scheme = 21, reason_flag = 22, reason_first_step = 23, reason_work_number = 24
+   integer, parameter :: reason_budget = 31, reason_underflow = 32, reason_singular = 33, reason_newton = 34, &
+      reason_nonfinite = 35, reason_evaluation = 36, reason_failed = 37, reason_memory = 38
+   !> RADAU5's defaults: step budget NMAX, rounding unit, first step for H = 0, step-size
+   !> factor bounds 1/FACL and 1/FACR
+   integer, parameter :: default_budget = 100000
+   real(dp), parameter :: default_uround = 1.0e-16_dp, default_first_step = 1.0e-6_dp
+   real(dp), parameter :: default_min_shrink = 0.2_dp, default_max_growth = 8.0_dp
 
    abstract interface
       !> F = right-hand side (or its non-stiff or stiff part) at (X, Y)
@@ -60,7 +82,8 @@ module taylorode_interfaces_legacy
          real(dp) :: f(n)
          !> The caller's real data, passed through untouched
          real(dp) :: rpar(*)
-         !> The caller's integer data, passed through untouched
+         !> The caller's integer data, passed through untouched (IPAR(IWORK(11)): the
+         !> evaluation flag when IWORK(11) > 0)
          integer :: ipar(*)
       end subroutine fcn_interface
       !> DFY = its Jacobian (dense LDFY x N, or band storage)
@@ -77,6 +100,19 @@ module taylorode_interfaces_legacy
          !> The caller's integer data, passed through untouched
          integer :: ipar(*)
       end subroutine jac_interface
+      !> AM = the constant mass matrix M (RADAU5's MAS): dense LMAS x N when MLMAS = N, else
+      !> AM(I - J + MUMAS + 1, J) = M(I, J)
+      subroutine mas_interface(n, am, lmas, rpar, ipar)
+         import :: dp
+         !> Unknowns, and the leading dimension of am (n dense, mlmas + mumas + 1 band)
+         integer :: n, lmas
+         !> The mass matrix
+         real(dp) :: am(lmas, n)
+         !> The caller's real data, passed through untouched
+         real(dp) :: rpar(*)
+         !> The caller's integer data, passed through untouched
+         integer :: ipar(*)
+      end subroutine mas_interface
       !> Called after each accepted step (and once at the start)
       subroutine solout_interface(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
          import :: dp
@@ -107,17 +143,27 @@ module taylorode_interfaces_legacy
       type(matrix_structure_type) :: structure
       !> The user's RPAR and IPAR, passed through
       type(c_ptr) :: rpar = c_null_ptr, ipar = c_null_ptr
-      !> Work arrays: the state (a copy, as F77 routines may write it) and the Jacobian
-      !> in the user's layout
-      real(dp), allocatable :: x_state(:), jac_work(:, :)
+      !> IPAR(flag) is the evaluation flag (0: none)
+      integer :: flag = 0
+      !> The user's MAS, and the bandwidths of M as it gives it (n, n: dense)
+      procedure(mas_interface), pointer, nopass :: mas => null()
+      integer :: mass_lower = 0, mass_upper = 0
+      !> Work arrays: the state (a copy, as F77 routines may write it), f when both parts
+      !> are given, the Jacobian in the user's layout (both parts given), M as MAS gives it
+      real(dp), allocatable :: x_state(:), g_work(:), jac_work(:, :), mass_work(:, :)
    contains
       procedure :: f => legacy_f
       procedure :: g => legacy_g
+      procedure :: rhs => legacy_rhs
       procedure :: jac_f => legacy_jac_f
       procedure :: jac_g => legacy_jac_g
+      procedure :: jac => legacy_jac
       procedure :: jacobian_structure => legacy_structure
       procedure :: jac_f_band => legacy_jac_f_band
       procedure :: jac_g_band => legacy_jac_g_band
+      procedure :: jac_band => legacy_jac_band
+      procedure :: mass_matrix => legacy_mass
+      procedure :: mass_matrix_band => legacy_mass_band
    end type legacy_problem_type
 
    !> SOLOUT after every accepted step
@@ -140,9 +186,12 @@ module taylorode_interfaces_legacy
 
 contains
 
-   !> The integration behind TAYLORODE and TAYLORODE_SPLIT (see the module comment).
+   !> The integration behind TAYLORODE and TAYLORODE_SPLIT (see the module comment):
+   !> RADAU5's settings checked and mapped onto the library's options, the integration,
+   !> and RADAU5's outputs. `message` (for callers in Fortran) says why when idid < 0.
    subroutine legacy_solve(scheme_name, n, fcn_f, fcn_g, has_f, x, y, xend, h, rtol, atol, itol, jac_f, ijac_f, &
-      jac_g, ijac_g, mljac, mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
+      jac_g, ijac_g, mljac, mujac, mas, imas, mlmas, mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, &
+      idid, message)
       !> Scheme name, as users type it
       character(len=*), intent(in) :: scheme_name
       !> Unknowns
@@ -155,13 +204,14 @@ contains
       real(dp), intent(inout) :: x
       !> State at x
       real(dp), intent(inout) :: y(n)
-      !> Final time
+      !> Final time, > x
       real(dp), intent(in) :: xend
-      !> First step size on entry (0: automatic), the next one on exit
+      !> First step size guess on entry (0: RADAU5's 1e-6 for radau5, automatic for the
+      !> others), the next one on exit
       real(dp), intent(inout) :: h
-      !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol = 1)
+      !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol /= 0)
       real(dp), intent(in) :: rtol(*), atol(*)
-      !> 0 for scalar tolerances, 1 for one per component
+      !> 0 for scalar tolerances, anything else for one per component
       integer, intent(in) :: itol
       !> Jacobians of f and g, used when ijac_f, ijac_g = 1
       procedure(jac_interface) :: jac_f, jac_g
@@ -169,15 +219,21 @@ contains
       integer, intent(in) :: ijac_f, ijac_g
       !> Lower and upper bandwidths of the Jacobians (mljac >= n: dense; else both in [0, n - 1])
       integer, intent(in) :: mljac, mujac
-      !> Called after every accepted step when iout = 1
+      !> The mass matrix routine (called once when imas /= 0)
+      procedure(mas_interface) :: mas
+      !> 0: M = I; otherwise M comes from mas (radau5 only)
+      integer, intent(in) :: imas
+      !> Bandwidths of M (mlmas = n: dense; else band storage, within the Jacobian's bands)
+      integer, intent(in) :: mlmas, mumas
+      !> Called after every accepted step when iout /= 0
       procedure(solout_interface) :: solout
-      !> 1 to call solout, 0 not to
+      !> 0: never call solout
       integer, intent(in) :: iout
       !> Lengths of work and iwork (at least 20 each)
       integer, intent(in) :: lwork, liwork
-      !> Real inputs (see the module comment)
+      !> Real settings WORK(1:9) (see the module comment)
       real(dp), intent(inout) :: work(*)
-      !> Integer inputs and statistics (see the module comment)
+      !> Integer settings IWORK(1:11) and outputs IWORK(12:20)
       integer, intent(inout) :: iwork(*)
       !> Real data passed to the user's routines untouched
       real(dp), intent(inout), target :: rpar(*)
@@ -185,6 +241,8 @@ contains
       integer, intent(inout), target :: ipar(*)
       !> Outcome
       integer, intent(out) :: idid
+      !> Why the call failed (empty when idid > 0)
+      character(len=:), allocatable, intent(out), optional :: message
       type(legacy_problem_type) :: problem
       type(legacy_observer_type) :: observer
       class(scheme_type), allocatable :: scheme
@@ -192,15 +250,24 @@ contains
       type(integrator_type) :: integrator
       type(integration_stats_type) :: stats
       type(status_type) :: stat
-      integer :: memory
+      integer :: reason, detail, memory
+      logical :: radau
 
       idid = -1
-      if (n < 1 .or. lwork < 20 .or. liwork < 20 .or. (itol /= 0 .and. itol /= 1) .or. .not. (xend > x)) return
-      if (iout /= 0 .and. iout /= 1) return
-      ! banded (mljac < n): both bandwidths within the matrix
-      if (mljac < n .and. (mljac < 0 .or. mujac < 0 .or. mujac > n - 1)) return
-      call new_scheme(scheme_name, scheme, stat)
-      if (stat%code /= status_ok) return
+      if (present(message)) message = ""
+      if (lwork < 20 .or. liwork < 20) then
+         if (liwork >= 13) iwork(12:13) = [reason_storage, 0]
+         if (present(message)) message = legacy_message(reason_storage, 0)
+         return
+      end if
+      iwork(12:13) = 0
+      radau = trim(scheme_name) == "radau5"
+      call read_settings(reason, detail)
+      if (reason /= reason_none) then
+         if (reason == reason_memory) idid = outcome_code(status_out_of_memory)
+         call refuse(reason, detail, "")
+         return
+      end if
 
       problem%fcn_g => fcn_g
       problem%has_f = has_f
@@ -212,41 +279,40 @@ contains
       if (mljac < n) problem%structure = band_structure(mljac, mujac)
       problem%rpar = c_loc(rpar(1))
       problem%ipar = c_loc(ipar(1))
+      problem%flag = iwork(11)
       allocate (problem%x_state(n), stat=memory)
-      if (problem%structure%storage == storage_band) then
-         if (memory == 0) allocate (problem%jac_work(problem%structure%lower + problem%structure%upper + 1, n), &
-            stat=memory)
-      else
-         if (memory == 0) allocate (problem%jac_work(n, n), stat=memory)
+      if (has_f .and. memory == 0) then
+         allocate (problem%g_work(n), stat=memory)
+         if (memory == 0) then
+            if (problem%structure%storage == storage_band) then
+               allocate (problem%jac_work(problem%structure%lower + problem%structure%upper + 1, n), stat=memory)
+            else
+               allocate (problem%jac_work(n, n), stat=memory)
+            end if
+         end if
+      end if
+      if (imas /= 0 .and. memory == 0) then
+         problem%has_mass = .true.
+         problem%mas => mas
+         if (mlmas == n) then
+            problem%mass_lower = n
+            problem%mass_upper = n
+            allocate (problem%mass_work(n, n), stat=memory)
+         else
+            problem%mass_lower = mlmas
+            problem%mass_upper = mumas
+            allocate (problem%mass_work(mlmas + mumas + 1, n), stat=memory)
+         end if
       end if
       if (memory /= 0) then
          idid = outcome_code(status_out_of_memory)
+         call refuse(reason_memory, 0, "")
          return
       end if
 
-      if (itol == 0) then
-         options%rtol = rtol(1)
-         options%atol = atol(1)
-      else
-         allocate (options%rtol_vector(n), options%atol_vector(n), stat=memory)
-         if (memory /= 0) then
-            idid = outcome_code(status_out_of_memory)
-            return
-         end if
-         options%rtol_vector = rtol(:n)
-         options%atol_vector = atol(:n)
-      end if
-      options%h0 = max(h, 0.0_dp)
-      options%max_steps = 100000_i8
-      if (iwork(2) > 0) options%max_steps = iwork(2)
-      if (iwork(3) > 0) options%max_newton_iterations = iwork(3)
-      if (work(2) > 0.0_dp) options%kappa = work(2)
-      options%h_max = xend - x
-      if (work(7) > 0.0_dp) options%h_max = work(7)
-
       call integrator%init(problem, scheme, x, y, options, stat)
       if (stat%code == status_ok) then
-         if (iout == 1) then
+         if (iout /= 0) then
             observer%solout => solout
             observer%rpar = problem%rpar
             observer%ipar = problem%ipar
@@ -268,15 +334,216 @@ contains
       end if
       x = integrator%total%t_reached
       h = integrator%h
-      iwork(14) = int(max(integrator%total%work%f_evaluations, integrator%total%work%g_evaluations))
-      iwork(15) = int(max(integrator%total%work%jac_f_evaluations, integrator%total%work%jac_g_evaluations))
-      iwork(16) = int(integrator%total%accepted_steps + integrator%total%rejected_steps())
-      iwork(17) = int(integrator%total%accepted_steps)
-      iwork(18) = int(integrator%total%rejected_steps())
-      iwork(19) = int(integrator%total%work%lu_factorizations)
-      iwork(20) = int(integrator%total%work%linear_solves)
+      associate (total => integrator%total)
+         iwork(14) = int(max(total%work%f_evaluations, total%work%g_evaluations))
+         iwork(15) = int(max(total%work%jac_f_evaluations, total%work%jac_g_evaluations))
+         iwork(16) = int(total%accepted_steps + total%rejected_steps())
+         iwork(17) = int(total%accepted_steps)
+         ! RADAU5's NREJCT: error-test rejections after the first accepted step
+         iwork(18) = int(total%rejected_error - total%rejected_error_start)
+         iwork(19) = int(total%work%lu_factorizations)
+         ! RADAU5's NSOL: the solves of the Newton iterations, not the error estimate's
+         iwork(20) = int(merge(total%work%newton_iterations, total%work%linear_solves, radau))
+      end associate
       idid = outcome_code(stat%code)
+      ! RADAU5 counts the attempt that finds the budget spent: NSTEP = NMAX + 1
+      if (idid == -2) iwork(16) = iwork(16) + 1
       if (stat%code == status_ok .and. observer%stopped) idid = 2
+      if (idid < 0) call refuse(outcome_reason(idid), 0, stat%message)
+
+   contains
+
+      !> RADAU5's settings, checked as RADAU5 checks them, into the options and the scheme.
+      subroutine read_settings(reason, detail)
+         integer, intent(out) :: reason, detail
+         real(dp) :: uround, rtol_i, atol_i, quotient, hmax, first_rtol, safe, thet, fnewt, quot1, quot2, facl, &
+            facr, first
+         integer :: i, components, nind(3), m1, m2
+         type(status_type) :: scheme_stat
+
+         detail = 0
+         reason = reason_size
+         if (n < 1) return
+         reason = reason_interval
+         if (.not. (ieee_is_finite(x) .and. ieee_is_finite(xend) .and. xend > x)) return
+         reason = reason_scheme
+         call new_scheme(scheme_name, scheme, scheme_stat)
+         if (scheme_stat%code /= status_ok) return
+         ! WORK(1:9) and H must be numbers (RADAU5 does not check: NaN passes its tests)
+         reason = reason_work_number
+         do i = 1, 9
+            detail = i
+            if (ieee_is_nan(work(i))) return
+         end do
+         detail = 0
+         reason = reason_first_step
+         if (ieee_is_nan(h)) return
+         ! WORK(1): the rounding unit (RADAU5's UROUND: tolerance and Newton checks, H = 0)
+         reason = reason_uround
+         uround = default_uround
+         if (work(1) /= 0.0_dp) uround = work(1)
+         if (.not. (uround > 1.0e-19_dp .and. uround < 1.0_dp)) return
+         ! tolerances: radau5 takes RADAU5's rtol' = 0.1 rtol^(2/3), atol' = atol rtol'/rtol
+         reason = reason_tolerance
+         components = merge(1, n, itol == 0)
+         if (itol /= 0) then
+            allocate (options%rtol_vector(n), options%atol_vector(n), stat=memory)
+            if (memory /= 0) then
+               reason = reason_memory
+               return
+            end if
+         end if
+         do i = 1, components
+            detail = i
+            rtol_i = rtol(i)
+            atol_i = atol(i)
+            if (.not. (ieee_is_finite(rtol_i) .and. ieee_is_finite(atol_i))) return
+            if (radau) then
+               if (atol_i <= 0.0_dp .or. rtol_i <= 10.0_dp*uround) return
+               quotient = atol_i/rtol_i
+               rtol_i = 0.1_dp*rtol_i**(2.0_dp/3.0_dp)
+               atol_i = rtol_i*quotient
+            else if (rtol_i < 0.0_dp .or. atol_i < 0.0_dp .or. (rtol_i == 0.0_dp .and. atol_i == 0.0_dp)) then
+               return
+            end if
+            if (itol == 0) then
+               options%rtol = rtol_i
+               options%atol = atol_i
+            else
+               options%rtol_vector(i) = rtol_i
+               options%atol_vector(i) = atol_i
+            end if
+            if (i == 1) first_rtol = rtol_i
+         end do
+         detail = 0
+         ! IWORK(2): the step budget
+         reason = reason_budget_setting
+         if (iwork(2) < 0) return
+         options%max_steps = merge(default_budget, iwork(2), iwork(2) == 0)
+         ! IWORK(3): Newton iterations per step (0: the scheme's own, RADAU5's 7 for radau5)
+         reason = reason_newton_setting
+         if (iwork(3) < 0) return
+         options%max_newton_iterations = iwork(3)
+         ! IWORK(4): Newton from zero increments, i.e. from the state at the start of the step
+         options%extrapolate_newton_start = iwork(4) == 0
+         ! IWORK(5:7): index-1, 2 and 3 variables (only index 1: higher ones are not supported)
+         reason = reason_index_sum
+         nind = iwork(5:7)
+         if (nind(1) == 0) nind(1) = n
+         if (sum(nind) /= n) return
+         reason = reason_index_high
+         if (nind(2) /= 0 .or. nind(3) /= 0) return
+         ! IWORK(8): 1 (or 0) the predictive controller, 2 the classical one
+         options%controller = merge(controller_auto, controller_i, iwork(8) <= 1)
+         ! IWORK(9:10): the structure y_i' = y_(i+M2), i <= M1, of second-order systems
+         reason = reason_second_order
+         m1 = iwork(9)
+         m2 = iwork(10)
+         if (m1 == 0) m2 = n
+         if (m2 == 0) m2 = m1
+         if (m1 < 0 .or. m2 < 0 .or. m1 + m2 > n) return
+         reason = reason_second_order_unsupported
+         if (m1 > 0) return
+         ! WORK(2): the safety factor
+         reason = reason_safety
+         safe = 0.9_dp
+         if (work(2) /= 0.0_dp) safe = work(2)
+         if (.not. (safe > 0.001_dp .and. safe < 1.0_dp)) return
+         options%kappa = safe
+         ! WORK(3): the contraction rate up to which the Jacobian serves the next step (radau5)
+         reason = reason_jacobian_reuse
+         thet = 0.001_dp
+         if (work(3) /= 0.0_dp) thet = work(3)
+         if (.not. (thet < 1.0_dp)) return
+         ! WORK(4): Newton's stop criterion (radau5: RADAU5's FNEWT by default)
+         reason = reason_newton_stop
+         if (work(4) /= 0.0_dp) then
+            fnewt = work(4)
+            if (.not. (fnewt > uround/first_rtol .and. ieee_is_finite(fnewt))) return
+            options%newton_fraction = fnewt
+         else if (radau) then
+            options%newton_fraction = max(10.0_dp*uround/first_rtol, min(0.03_dp, sqrt(first_rtol)))
+         end if
+         ! WORK(5:6): the band of h_new / h in which h is kept (radau5)
+         reason = reason_hold
+         quot1 = 1.0_dp
+         quot2 = 1.2_dp
+         if (work(5) /= 0.0_dp) quot1 = work(5)
+         if (work(6) /= 0.0_dp) quot2 = work(6)
+         if (.not. (quot1 <= 1.0_dp .and. quot2 >= 1.0_dp .and. quot1 > 0.0_dp .and. ieee_is_finite(quot2))) return
+         ! WORK(7): the largest step
+         reason = reason_largest_step
+         hmax = xend - x
+         if (work(7) /= 0.0_dp) hmax = min(abs(work(7)), xend - x)
+         if (.not. (hmax > 0.0_dp)) return
+         options%h_max = hmax
+         ! WORK(8:9): bounds of h_new / h (RADAU5's 0.2 and 8 for radau5, the library's for the others)
+         reason = reason_step_factors
+         if (work(8) /= 0.0_dp) then
+            facl = 1.0_dp/work(8)
+            if (.not. (facl > 1.0_dp .and. ieee_is_finite(facl))) return
+            options%min_shrink = work(8)
+         else if (radau) then
+            options%min_shrink = default_min_shrink
+         end if
+         if (work(9) /= 0.0_dp) then
+            facr = 1.0_dp/work(9)
+            if (.not. (facr < 1.0_dp .and. facr > 0.0_dp)) return
+            options%max_growth = work(9)
+         else if (radau) then
+            options%max_growth = default_max_growth
+         end if
+         ! the Jacobian's bands
+         reason = reason_bandwidths
+         if (mljac < n .and. (mljac < 0 .or. mujac < 0 .or. mujac > n - 1)) return
+         ! the mass matrix (radau5 only): dense (MLMAS = N) with a dense Jacobian, or a band
+         ! within the Jacobian's
+         if (imas /= 0) then
+            reason = reason_mass_scheme
+            if (.not. radau) return
+            reason = reason_mass_bandwidths
+            if (mlmas /= n) then
+               if (mlmas < 0 .or. mumas < 0) return
+               if (mljac < n) then
+                  if (mlmas > mljac .or. mumas > mujac) return
+               else if (mlmas > n .or. mumas > n) then
+                  return
+               end if
+            else if (mljac < n) then
+               return
+            end if
+         end if
+         ! IWORK(11): the evaluation flag's place in IPAR
+         reason = reason_flag
+         if (iwork(11) < 0) return
+         ! H: a guess; |H| <= 10 UROUND is RADAU5's 1e-6 for radau5, automatic for the others
+         first = abs(h)
+         if (first <= 10.0_dp*uround) first = merge(default_first_step, 0.0_dp, radau)
+         options%h0 = min(first, hmax)
+         if (radau) then
+            options%norm = norm_rms
+            select type (scheme)
+            type is (radau5_type)
+               scheme%zero_start = iwork(4) /= 0
+               scheme%jacobian_reuse = thet
+               scheme%hold_low = quot1
+               scheme%hold_high = quot2
+            end select
+         end if
+         reason = reason_none
+      end subroutine read_settings
+
+      !> idid = -1 (or the outcome's code), IWORK(12:13) and the message for a reason.
+      subroutine refuse(why, which, library_message)
+         integer, intent(in) :: why, which
+         character(len=*), intent(in) :: library_message
+         iwork(12) = why
+         iwork(13) = which
+         if (present(message)) then
+            message = legacy_message(why, which)
+            if (len_trim(library_message) > 0) message = message//" ("//trim(library_message)//")"
+         end if
+      end subroutine refuse
    end subroutine legacy_solve
 
    !> RADAU5's IDID for a status code.
@@ -295,14 +562,86 @@ contains
       end select
    end function outcome_code
 
+   !> The reason code (IWORK(12)) of a failed integration's IDID.
+   pure integer function outcome_reason(idid)
+      integer, intent(in) :: idid
+      select case (idid)
+      case (-2); outcome_reason = reason_budget
+      case (-3); outcome_reason = reason_underflow
+      case (-4); outcome_reason = reason_singular
+      case (-5); outcome_reason = reason_newton
+      case (-6); outcome_reason = reason_nonfinite
+      case (-7); outcome_reason = reason_evaluation
+      case (-8); outcome_reason = reason_memory
+      case default; outcome_reason = reason_failed
+      end select
+   end function outcome_reason
+
+   !> What IWORK(12) = reason (and IWORK(13) = detail, a component or setting) says, in
+   !> words (TAYLORODE_MESSAGE).
+   pure function legacy_message(reason, detail) result(text)
+      !> IWORK(12)
+      integer, intent(in) :: reason
+      !> IWORK(13)
+      integer, intent(in) :: detail
+      character(len=:), allocatable :: text
+      character(len=12) :: number
+      write (number, '(i0)') detail
+      select case (reason)
+      case (reason_none); text = ""
+      case (reason_storage); text = "LWORK and LIWORK must be at least 20"
+      case (reason_size); text = "N must be at least 1"
+      case (reason_interval); text = "X and XEND must be finite and XEND > X (backward integration is not "// &
+         "supported: substitute s = -x)"
+      case (reason_tolerance); text = "RTOL("//trim(number)//") or ATOL("//trim(number)//") out of range: for "// &
+         "radau5 (as RADAU5) ATOL > 0 and RTOL > 10 UROUND, for the other schemes both >= 0 and not both 0, finite"
+      case (reason_uround); text = "WORK(1), the rounding unit UROUND, must be in (1e-19, 1) (0: 1e-16)"
+      case (reason_budget_setting); text = "IWORK(2), the step budget, must be >= 0 (0: 100000)"
+      case (reason_newton_setting); text = "IWORK(3), the Newton iterations per step, must be >= 0 (0: the "// &
+         "scheme's own, 7 for radau5)"
+      case (reason_index_sum); text = "IWORK(5) + IWORK(6) + IWORK(7) must equal N (IWORK(5) = 0: N)"
+      case (reason_index_high); text = "index-2 and index-3 variables (IWORK(6), IWORK(7) > 0) are not supported"
+      case (reason_second_order); text = "IWORK(9) = M1 and IWORK(10) = M2 must be >= 0 with M1 + M2 <= N"
+      case (reason_second_order_unsupported); text = "the second-order structure IWORK(9) = M1 > 0 is not "// &
+         "supported: give the whole Jacobian (and mass matrix) with M1 = 0"
+      case (reason_safety); text = "WORK(2), the safety factor, must be in (0.001, 1) (0: 0.9)"
+      case (reason_jacobian_reuse); text = "WORK(3), the contraction rate up to which the Jacobian is kept, "// &
+         "must be < 1 (0: 0.001)"
+      case (reason_newton_stop); text = "WORK(4), Newton's stop criterion, must be > UROUND / RTOL(1) (RADAU5's "// &
+         "transformed RTOL for radau5) and finite (0: RADAU5's default)"
+      case (reason_hold); text = "WORK(5) must be in (0, 1] and WORK(6) >= 1, finite (0: 1 and 1.2)"
+      case (reason_step_factors); text = "WORK(8) must be in (0, 1) and WORK(9) > 1 (0: 0.2 and 8)"
+      case (reason_largest_step); text = "WORK(7), the largest step, must be a number (0: XEND - X)"
+      case (reason_bandwidths); text = "with MLJAC < N (band storage) both MLJAC and MUJAC must be in [0, N - 1]"
+      case (reason_mass_bandwidths); text = "the mass matrix's bands must be >= 0 and within the Jacobian's "// &
+         "(MLMAS <= MLJAC, MUMAS <= MUJAC; MLMAS = N: dense, which needs a dense Jacobian)"
+      case (reason_mass_scheme); text = "a mass matrix (IMAS /= 0) needs the scheme radau5"
+      case (reason_scheme); text = "unknown scheme name"
+      case (reason_flag); text = "IWORK(11), the place of the evaluation flag in IPAR, must be >= 0"
+      case (reason_first_step); text = "H must be a number"
+      case (reason_work_number); text = "WORK("//trim(number)//") must be a number (NaN is not a setting)"
+      case (reason_budget); text = "the step budget IWORK(2) was spent before XEND (IDID = -2)"
+      case (reason_underflow); text = "the step size fell below the roundoff of X (IDID = -3)"
+      case (reason_singular); text = "the Newton matrix was singular repeatedly (IDID = -4)"
+      case (reason_newton); text = "Newton's method failed repeatedly (IDID = -5)"
+      case (reason_nonfinite); text = "NaN or Inf from FCN, JAC or a step, repeatedly at the same point, or in "// &
+         "the initial state (IDID = -6)"
+      case (reason_evaluation); text = "FCN or JAC rejected its evaluations through the flag IPAR(IWORK(11)) "// &
+         "(IDID = -7)"
+      case (reason_failed); text = "the integration was refused"
+      case (reason_memory); text = "memory could not be allocated (IDID = -8)"
+      case default; text = "unknown reason"
+      end select
+   end function legacy_message
+
    !> SOLOUT at the start (NR = 1, XOLD = X), as RADAU5 does.
    subroutine start_solout(self, x, y, n)
       type(legacy_observer_type), intent(inout) :: self
       real(dp), intent(in) :: x, y(:)
       integer, intent(in) :: n
       real(dp) :: x_copy
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       integer :: irtrn, nr, lrc, n_copy
       x_copy = x
       self%y_copy = y
@@ -323,8 +662,8 @@ contains
       class(legacy_observer_type), intent(inout) :: self
       type(accepted_step_type), intent(in) :: step
       logical, intent(inout) :: stop
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x_old, x_new
       integer :: irtrn, n, lrc, nr, first, k
       n = size(step%u_end)
@@ -372,41 +711,65 @@ contains
       value = u(1)
    end function legacy_interpolate
 
-   !> Call a user's FCN with its RPAR and IPAR (x and y copied: F77 routines may write them).
+
+   !> Call a user's FCN with its RPAR and IPAR (x and y copied: F77 routines may write
+   !> them); with the evaluation flag, IPAR(flag) is 0 before the call and read after it.
    subroutine call_fcn(self, fcn, t, u, dudt)
       type(legacy_problem_type), intent(inout) :: self
       procedure(fcn_interface) :: fcn
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: n
       call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [1])
+      call c_f_pointer(self%ipar, ipar, [max(1, self%flag)])
       x = t
       n = size(u)
       self%x_state = u
+      if (self%flag > 0) ipar(self%flag) = 0
       call fcn(n, x, self%x_state, dudt, rpar, ipar)
+      if (self%flag > 0) then
+         call read_flag(self, ipar(self%flag))
+         ! the values of a refused evaluation are not used; no NaN is left behind
+         if (ipar(self%flag) /= 0) dudt = 0.0_dp
+      end if
    end subroutine call_fcn
 
-   !> Call a user's JAC into jac_work.
-   subroutine call_jac(self, jac, t, u)
+   !> Call a user's JAC into jac (n x n dense, or its band storage), flag as call_fcn.
+   subroutine call_jac(self, jac_user, t, u, jac)
       type(legacy_problem_type), intent(inout) :: self
-      procedure(jac_interface) :: jac
+      procedure(jac_interface) :: jac_user
       real(dp), intent(in) :: t, u(:)
-      real(dp), pointer :: rpar(:)
-      integer, pointer :: ipar(:)
+      ! not contiguous: gfortran then copies even a contiguous actual argument; passed on
+      ! to the user's explicit-shape DFY it is copied only when it is not contiguous
+      real(dp), intent(out) :: jac(:, :)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: n, ldfy
       call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [1])
+      call c_f_pointer(self%ipar, ipar, [max(1, self%flag)])
       x = t
       n = size(u)
-      ldfy = size(self%jac_work, 1)
+      ldfy = size(jac, 1)
       self%x_state = u
-      call jac(n, x, self%x_state, self%jac_work, ldfy, rpar, ipar)
+      if (self%flag > 0) ipar(self%flag) = 0
+      call jac_user(n, x, self%x_state, jac, ldfy, rpar, ipar)
+      if (self%flag > 0) then
+         call read_flag(self, ipar(self%flag))
+         if (ipar(self%flag) /= 0) jac = 0.0_dp
+      end if
    end subroutine call_jac
+
+   !> What FCN or JAC said through the evaluation flag: > 0 retry shorter, < 0 stop.
+   subroutine read_flag(self, flag)
+      type(legacy_problem_type), intent(inout) :: self
+      integer, intent(in) :: flag
+      if (flag > 0) call self%reject_evaluation()
+      if (flag < 0) call self%reject_evaluation(fatal=.true.)
+   end subroutine read_flag
 
    subroutine legacy_f(self, t, u, dudt)
       class(legacy_problem_type), intent(inout) :: self
@@ -426,6 +789,35 @@ contains
       call call_fcn(self, self%fcn_g, t, u, dudt)
    end subroutine legacy_g
 
+   !> F = f + g: FCN alone in one call (TAYLORODE; the call written out here, the hot
+   !> path of radau5), or FCNF and FCNG added.
+   subroutine legacy_rhs(self, t, u, dudt)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
+      real(dp) :: x
+      integer :: i, n
+      if (self%has_f .or. self%flag > 0) then
+         call call_fcn(self, self%fcn_g, t, u, dudt)
+         if (.not. self%has_f) return
+         call call_fcn(self, self%fcn_f, t, u, self%g_work)
+         do i = 1, size(u)
+            dudt(i) = dudt(i) + self%g_work(i)
+         end do
+         return
+      end if
+      call c_f_pointer(self%rpar, rpar, [1])
+      call c_f_pointer(self%ipar, ipar, [1])
+      x = t
+      n = size(u)
+      do i = 1, n
+         self%x_state(i) = u(i)
+      end do
+      call self%fcn_g(n, x, self%x_state, dudt, rpar, ipar)
+   end subroutine legacy_rhs
+
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
    subroutine legacy_jac_f(self, t, u, jac)
       class(legacy_problem_type), intent(inout) :: self
@@ -434,8 +826,7 @@ contains
       if (.not. self%has_f) then
          jac = 0.0_dp
       else if (self%has_jac_f) then
-         call call_jac(self, self%jac_f_user, t, u)
-         jac = self%jac_work
+         call call_jac(self, self%jac_f_user, t, u, jac)
       else
          call dense_differences(self, .true., t, u, jac)
       end if
@@ -447,12 +838,25 @@ contains
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: jac(:, :)
       if (self%has_jac_g) then
-         call call_jac(self, self%jac_g_user, t, u)
-         jac = self%jac_work
+         call call_jac(self, self%jac_g_user, t, u, jac)
       else
          call dense_differences(self, .false., t, u, jac)
       end if
    end subroutine legacy_jac_g
+
+   !> Dense J: the user's JAC in one call straight into jac (TAYLORODE), else jac_f + jac_g.
+   subroutine legacy_jac(self, t, u, jac)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (self%has_f) then
+         call self%jac_f(t, u, jac)
+         call self%jac_g(t, u, self%jac_work)
+         jac = jac + self%jac_work
+      else
+         call self%jac_g(t, u, jac)
+      end if
+   end subroutine legacy_jac
 
    function legacy_structure(self, n) result(structure)
       class(legacy_problem_type), intent(in) :: self
@@ -470,8 +874,7 @@ contains
       if (.not. self%has_f) then
          band = 0.0_dp
       else if (self%has_jac_f) then
-         call call_jac(self, self%jac_f_user, t, u)
-         band = self%jac_work
+         call call_jac(self, self%jac_f_user, t, u, band)
       else
          call band_differences(self, .true., t, u, band)
       end if
@@ -483,12 +886,83 @@ contains
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: band(:, :)
       if (self%has_jac_g) then
-         call call_jac(self, self%jac_g_user, t, u)
-         band = self%jac_work
+         call call_jac(self, self%jac_g_user, t, u, band)
       else
          call band_differences(self, .false., t, u, band)
       end if
    end subroutine legacy_jac_g_band
+
+   !> Band J: the user's JAC in one call (TAYLORODE), else jac_f_band + jac_g_band.
+   subroutine legacy_jac_band(self, t, u, band)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      if (self%has_f) then
+         call self%jac_f_band(t, u, band)
+         call self%jac_g_band(t, u, self%jac_work)
+         band = band + self%jac_work
+      else
+         call self%jac_g_band(t, u, band)
+      end if
+   end subroutine legacy_jac_band
+
+   !> M, dense: the user's MAS (dense, or its band expanded).
+   subroutine legacy_mass(self, m)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(out) :: m(:, :)
+      integer :: i, j
+      call call_mas(self)
+      if (self%mass_lower >= size(m, 1)) then
+         m = self%mass_work
+      else
+         m = 0.0_dp
+         do j = 1, size(m, 2)
+            do i = max(1, j - self%mass_upper), min(size(m, 1), j + self%mass_lower)
+               m(i, j) = self%mass_work(self%mass_upper + 1 + i - j, j)
+            end do
+         end do
+      end if
+   end subroutine legacy_mass
+
+   !> M in the Jacobian's band storage: the user's band MAS, moved to the Jacobian's rows.
+   subroutine legacy_mass_band(self, band)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(out) :: band(:, :)
+      integer :: i, j
+      call call_mas(self)
+      band = 0.0_dp
+      do j = 1, size(band, 2)
+         do i = max(1, j - self%mass_upper), min(size(band, 2), j + self%mass_lower)
+            band(self%structure%upper + 1 + i - j, j) = self%mass_work(self%mass_upper + 1 + i - j, j)
+         end do
+      end do
+   end subroutine legacy_mass_band
+
+   !> The user's MAS(N, AM, LMAS, RPAR, IPAR) into mass_work.
+   subroutine call_mas(self)
+      type(legacy_problem_type), intent(inout) :: self
+      real(dp), pointer, contiguous :: rpar(:)
+      integer, pointer, contiguous :: ipar(:)
+      integer :: n, lmas
+      call c_f_pointer(self%rpar, rpar, [1])
+      call c_f_pointer(self%ipar, ipar, [1])
+      n = size(self%mass_work, 2)
+      lmas = size(self%mass_work, 1)
+      self%mass_work = 0.0_dp
+      call self%mas(n, self%mass_work, lmas, rpar, ipar)
+   end subroutine call_mas
+
+   !> A MAS for calls without a mass matrix (TAYLORODE_SPLIT); never called.
+   subroutine legacy_no_mass(n, am, lmas, rpar, ipar)
+      !> Unknowns, leading dimension of am
+      integer :: n, lmas
+      !> The mass matrix (left as it is)
+      real(dp) :: am(lmas, n)
+      !> The caller's real data
+      real(dp) :: rpar(*)
+      !> The caller's integer data
+      integer :: ipar(*)
+   end subroutine legacy_no_mass
 
 end module taylorode_interfaces_legacy
 
@@ -497,7 +971,8 @@ end module taylorode_interfaces_legacy
 subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac, mljac, mujac, mas, imas, mlmas, &
    mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
    use taylorode_base_kinds, only: dp
-   use taylorode_interfaces_legacy, only: legacy_solve, fcn_interface, jac_interface, solout_interface
+   use taylorode_interfaces_legacy, only: legacy_solve, fcn_interface, jac_interface, mas_interface, &
+      solout_interface
    implicit none
    !> Scheme name, as users type it ('radau5', 'i-t-2', ...)
    character(len=*), intent(in) :: scheme
@@ -511,11 +986,12 @@ subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac,
    real(dp), intent(inout) :: y(n)
    !> Final time, > x
    real(dp), intent(in) :: xend
-   !> First step size on entry (0: automatic), the next one on exit
+   !> First step size guess on entry (0: RADAU5's 1e-6 for radau5, automatic for the
+   !> others), the next one on exit
    real(dp), intent(inout) :: h
-   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol = 1)
+   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol /= 0)
    real(dp), intent(in) :: rtol(*), atol(*)
-   !> 0 for scalar tolerances, 1 for one per component
+   !> 0 for scalar tolerances, anything else for one per component
    integer, intent(in) :: itol
    !> The Jacobian, JAC(N, X, Y, DFY, LDFY, RPAR, IPAR), called when ijac = 1
    procedure(jac_interface) :: jac
@@ -523,20 +999,21 @@ subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac,
    integer, intent(in) :: ijac
    !> Lower and upper bandwidths of the Jacobian (mljac >= n: dense; else both in [0, n - 1])
    integer, intent(in) :: mljac, mujac
-   !> The mass matrix routine of RADAU5's list (never called)
-   procedure() :: mas
-   !> 0 (no mass matrix); anything else is an error (idid = -1)
+   !> The mass matrix, MAS(N, AM, LMAS, RPAR, IPAR), called once when imas /= 0
+   procedure(mas_interface) :: mas
+   !> 0: M = I; otherwise M comes from mas (radau5 only)
    integer, intent(in) :: imas
-   !> Bandwidths of the mass matrix (ignored)
+   !> Bandwidths of the mass matrix (mlmas = n: dense; else within the Jacobian's bands)
    integer, intent(in) :: mlmas, mumas
-   !> Called after every accepted step when iout = 1
+   !> Called after every accepted step when iout /= 0
    procedure(solout_interface) :: solout
-   !> 1 to call solout, 0 not to
+   !> 0: never call solout
    integer, intent(in) :: iout
-   !> Real inputs: work(2) safety factor, work(7) largest step (0: defaults)
+   !> Real settings WORK(1:9) (RADAU5's; 0: defaults)
    real(dp), intent(inout) :: work(*)
-   !> Integer inputs and statistics: iwork(2) step budget, iwork(3) Newton iterations;
-   !> iwork(14:20) evaluations, Jacobians, steps, accepted, rejected, LU, solves
+   !> Integer settings IWORK(1:11) (RADAU5's and the evaluation flag); outputs IWORK(12:20):
+   !> the reason of a failure and its detail, evaluations, Jacobians, steps, accepted,
+   !> rejected, LU, solves
    integer, intent(inout) :: iwork(*)
    !> Lengths of work and iwork (at least 20 each)
    integer, intent(in) :: lwork, liwork
@@ -546,20 +1023,17 @@ subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac,
    integer, intent(inout), target :: ipar(*)
    !> 1 success, 2 stopped by solout, < 0 failure (see the module comment)
    integer, intent(out) :: idid
-   if (imas /= 0) then
-      idid = -1
-      return
-   end if
    call legacy_solve(scheme, n, fcn, fcn, .false., x, y, xend, h, rtol, atol, itol, jac, 0, jac, ijac, mljac, mujac, &
-      solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
+      mas, imas, mlmas, mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
 end subroutine taylorode
 
 !> TAYLORODE_SPLIT, with f (FCNF, explicit in the semi-implicit schemes) and g (FCNG,
-!> stiff) apart, each with its Jacobian (IJACF, IJACG = 0: differences).
+!> stiff) apart, each with its Jacobian (IJACF, IJACG = 0: differences); no mass matrix.
 subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, mljac, &
    mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
    use taylorode_base_kinds, only: dp
-   use taylorode_interfaces_legacy, only: legacy_solve, fcn_interface, jac_interface, solout_interface
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass, fcn_interface, jac_interface, &
+      solout_interface
    implicit none
    !> Scheme name, as users type it ('si-t-2', 'imex-rk21', ...)
    character(len=*), intent(in) :: scheme
@@ -573,25 +1047,26 @@ subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, ito
    real(dp), intent(inout) :: y(n)
    !> Final time, > x
    real(dp), intent(in) :: xend
-   !> First step size on entry (0: automatic), the next one on exit
+   !> First step size guess on entry (0: RADAU5's 1e-6 for radau5, automatic for the
+   !> others), the next one on exit
    real(dp), intent(inout) :: h
-   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol = 1)
+   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol /= 0)
    real(dp), intent(in) :: rtol(*), atol(*)
-   !> 0 for scalar tolerances, 1 for one per component
+   !> 0 for scalar tolerances, anything else for one per component
    integer, intent(in) :: itol
-   !> The Jacobians of f and g, called when ijacf = 1 and ijacg = 1
+   !> The Jacobians of f and g, JACF(N, X, Y, DFY, LDFY, RPAR, IPAR), called when ijacf = 1 and ijacg = 1
    procedure(jac_interface) :: jacf, jacg
    !> 1: the Jacobian is given, 0: forward differences
    integer, intent(in) :: ijacf, ijacg
    !> Lower and upper bandwidths of both Jacobians (mljac >= n: dense; else both in [0, n - 1])
    integer, intent(in) :: mljac, mujac
-   !> Called after every accepted step when iout = 1
+   !> Called after every accepted step when iout /= 0
    procedure(solout_interface) :: solout
-   !> 1 to call solout, 0 not to
+   !> 0: never call solout
    integer, intent(in) :: iout
-   !> Real inputs (as TAYLORODE)
+   !> Real settings (as TAYLORODE)
    real(dp), intent(inout) :: work(*)
-   !> Integer inputs and statistics (as TAYLORODE)
+   !> Integer settings and outputs (as TAYLORODE)
    integer, intent(inout) :: iwork(*)
    !> Lengths of work and iwork (at least 20 each)
    integer, intent(in) :: lwork, liwork
@@ -602,11 +1077,11 @@ subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, ito
    !> 1 success, 2 stopped by solout, < 0 failure (see the module comment)
    integer, intent(out) :: idid
    call legacy_solve(scheme, n, fcnf, fcng, .true., x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, mljac, &
-      mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
+      mujac, legacy_no_mass, 0, n, 0, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
 end subroutine taylorode_split
 
 !> TAYLORODE_CONTR(I, S, CONT, LRC), component I at S inside the step SOLOUT was
-!> given (RADAU5's CONTR5), from the step's cubic Hermite interpolant.
+!> given (RADAU5's CONTR5), from the step's dense output.
 function taylorode_contr(i, s, cont, lrc) result(value)
    use taylorode_base_kinds, only: dp
    use taylorode_interfaces_legacy, only: legacy_interpolate
@@ -622,3 +1097,16 @@ function taylorode_contr(i, s, cont, lrc) result(value)
    real(dp) :: value
    value = legacy_interpolate(i, s, cont, lrc)
 end function taylorode_contr
+
+!> TAYLORODE_MESSAGE(IWORK, TEXT): why the last TAYLORODE or TAYLORODE_SPLIT call with
+!> this IWORK ended with a negative IDID, in words (from IWORK(12) and IWORK(13); blank
+!> after a success). TEXT is cut to its declared length (200 characters hold every one).
+subroutine taylorode_message(iwork, text)
+   use taylorode_interfaces_legacy, only: legacy_message
+   implicit none
+   !> The IWORK of the call
+   integer, intent(in) :: iwork(*)
+   !> The message (CHARACTER*(*))
+   character(len=*), intent(out) :: text
+   text = legacy_message(iwork(12), iwork(13))
+end subroutine taylorode_message

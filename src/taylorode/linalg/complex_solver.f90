@@ -106,9 +106,10 @@ contains
       end if
    end subroutine new_complex_solver
 
-   !> a = s I - J. J must have the solver's order and fit its storage: any J for a
-   !> dense solver, a band J no wider than the solver's bands for a band solver.
-   subroutine assemble(self, shift, jac, stat)
+   !> a = s I - J, or s M - J with a mass matrix M. J (and M) must have the solver's
+   !> order and fit its storage: any for a dense solver, band matrices no wider than
+   !> the solver's bands for a band solver.
+   subroutine assemble(self, shift, jac, stat, mass)
       !> The solver
       class(complex_solver_type), intent(inout) :: self
       !> The complex shift s
@@ -117,55 +118,81 @@ contains
       class(matrix_type), intent(in) :: jac
       !> status_invalid_argument on a storage mismatch
       type(status_type), intent(inout) :: stat
-      integer :: i, j, diagonal, shift_j
+      !> The real mass matrix M (default: the identity)
+      class(matrix_type), intent(in), optional :: mass
+      integer :: j
 
       self%factored = .false.
-      if (jac%n /= self%n) then
-         call mismatch()
-         return
+      call add_real(jac, (-1.0_dp, 0.0_dp), .true.)
+      if (stat%code /= status_ok) return
+      if (present(mass)) then
+         call add_real(mass, shift, .false.)
+      else if (self%storage == storage_dense) then
+         do j = 1, self%n
+            self%a(j, j) = self%a(j, j) + shift
+         end do
+      else
+         do j = 1, self%n
+            self%a(self%kl + self%ku + 1, j) = self%a(self%kl + self%ku + 1, j) + shift
+         end do
       end if
-      select type (jac)
-      type is (dense_matrix_type)
-         if (self%storage /= storage_dense) then
+   contains
+      !> a = a + factor B (a = factor B first when `first`)
+      subroutine add_real(b, factor, first)
+         class(matrix_type), intent(in) :: b
+         complex(dp), intent(in) :: factor
+         logical, intent(in) :: first
+         integer :: i, j, diagonal, shift_b
+         if (b%n /= self%n) then
             call mismatch()
             return
          end if
-         do j = 1, self%n
-            do i = 1, self%n
-               self%a(i, j) = cmplx(-jac%a(i, j), 0.0_dp, dp)
-            end do
-            self%a(j, j) = self%a(j, j) + shift
-         end do
-      type is (band_matrix_type)
-         if (self%storage == storage_dense) then
-            do j = 1, self%n
-               do i = 1, self%n
-                  self%a(i, j) = (0.0_dp, 0.0_dp)
-               end do
-               do i = max(1, j - jac%ku), min(self%n, j + jac%kl)
-                  self%a(i, j) = cmplx(-jac%ab(jac%diagonal + i - j, j), 0.0_dp, dp)
-               end do
-               self%a(j, j) = self%a(j, j) + shift
-            end do
-         else
-            if (jac%kl > self%kl .or. jac%ku > self%ku) then
+         select type (b)
+         type is (dense_matrix_type)
+            if (self%storage /= storage_dense) then
                call mismatch()
                return
             end if
-            diagonal = self%kl + self%ku + 1
-            shift_j = jac%diagonal
-            self%a = (0.0_dp, 0.0_dp)
-            do j = 1, self%n
-               do i = max(1, j - jac%ku), min(self%n, j + jac%kl)
-                  self%a(diagonal + i - j, j) = cmplx(-jac%ab(shift_j + i - j, j), 0.0_dp, dp)
+            if (first) then
+               do j = 1, self%n
+                  do i = 1, self%n
+                     self%a(i, j) = factor*b%a(i, j)
+                  end do
                end do
-               self%a(diagonal, j) = self%a(diagonal, j) + shift
-            end do
-         end if
-      class default
-         call mismatch()
-      end select
-   contains
+            else
+               do j = 1, self%n
+                  do i = 1, self%n
+                     self%a(i, j) = self%a(i, j) + factor*b%a(i, j)
+                  end do
+               end do
+            end if
+         type is (band_matrix_type)
+            if (self%storage == storage_dense) then
+               if (first) self%a = (0.0_dp, 0.0_dp)
+               do j = 1, self%n
+                  do i = max(1, j - b%ku), min(self%n, j + b%kl)
+                     self%a(i, j) = self%a(i, j) + factor*b%ab(b%diagonal + i - j, j)
+                  end do
+               end do
+            else
+               if (b%kl > self%kl .or. b%ku > self%ku) then
+                  call mismatch()
+                  return
+               end if
+               diagonal = self%kl + self%ku + 1
+               shift_b = b%diagonal
+               if (first) self%a = (0.0_dp, 0.0_dp)
+               do j = 1, self%n
+                  do i = max(1, j - b%ku), min(self%n, j + b%kl)
+                     self%a(diagonal + i - j, j) = self%a(diagonal + i - j, j) + factor*b%ab(shift_b + i - j, j)
+                  end do
+               end do
+            end if
+         class default
+            call mismatch()
+         end select
+      end subroutine add_real
+
       subroutine mismatch()
          call set_status(stat, status_invalid_argument, &
             "complex solver: the Jacobian's order or storage does not fit the solver")

@@ -50,6 +50,20 @@ module taylorode_problem_ode
       !> Newton iteration with a matrix factored for the step size at hand, without a
       !> second one to confirm convergence
       logical :: linear_g = .false.
+      !> Declare a constant mass matrix M: the problem is then M U' = f(t, U) + g(t, U),
+      !> with M from `mass_matrix` (dense) or `mass_matrix_band` (the band storage of the Jacobian
+      !> structure, M's bands within the Jacobian's). M may be singular: the equations
+      !> whose rows of M are zero are algebraic (an index-1 differential-algebraic
+      !> system, whose initial state must satisfy them). Only radau5 solves such a
+      !> problem; the other schemes refuse it (status_invalid_argument)
+      logical :: has_mass = .false.
+      !> Declare f and g independent of t. The second-order Taylor schemes advance a
+      !> problem that depends on t as the autonomous scheme advances (t, U) (with t' = 1),
+      !> which needs dF/dt: by a difference in t, one more evaluation of F per Newton
+      !> iteration of i-t-2 and of f and g per step of ex-t-2, si-t-2 and si-t-2-paper.
+      !> An autonomous problem saves them (without dF/dt, a problem that does depend on t
+      !> is advanced to first order only)
+      logical :: autonomous = .false.
       !> Set by reject_evaluation, cleared by the integrator before each attempt
       logical, private :: rejected = .false.
       !> Set by reject_evaluation(fatal=.true.): the integration stops at once
@@ -63,6 +77,9 @@ module taylorode_problem_ode
       real(dp), allocatable, private :: rhs_work(:)
       !> dg/dU for the default `jac` and `jac_band` (allocated at their first call)
       real(dp), allocatable, private :: jacobian_work(:, :)
+      !> J for the default `add_jacobian_product`, dense or in band storage (allocated at
+      !> its first call)
+      real(dp), allocatable, private :: product_work(:, :)
    contains
       !> Non-stiff part f(t, U)
       procedure(rhs_interface), deferred :: f
@@ -96,10 +113,22 @@ module taylorode_problem_ode
       !> J = df/dU + dg/dU in LAPACK band storage (default: jac_f_band, then jac_g_band
       !> added); the same contract as `jac`
       procedure :: jac_band => full_band_jacobian
+      !> The constant mass matrix M, dense (asked for when `has_mass` and the Jacobian
+      !> structure is dense; default: the identity)
+      procedure :: mass_matrix
+      !> M in the band storage of the Jacobian structure (asked for when `has_mass` and
+      !> the structure is a band; default: the identity)
+      procedure :: mass_matrix_band
       !> J_f v, the Jacobian of f times a vector (default: a forward difference of f along v)
       procedure :: jvp_f
       !> J_g v, the Jacobian of g times a vector (default: a forward difference of g along v)
       procedure :: jvp_g
+      !> y = y + alpha J v with the whole Jacobian J = df/dU + dg/dU, for the schemes that
+      !> use J only in products (i-t-2's residual, at every Newton iteration); default: J
+      !> from `jac` (or `jac_band`), exact. Override it with a product that forms no
+      !> matrix (i-t-2 then evaluates J only for its Newton matrices); it must equal
+      !> y + alpha J v
+      procedure :: add_jacobian_product
       !> Combine values over every process that holds a part of the state (default: the
       !> whole state is here, nothing to combine)
       procedure :: reduce
@@ -266,11 +295,12 @@ contains
    end subroutine memory_failure
 
    !> Whether the work array just sized for a default method is there (stat ok); if not,
-   !> the evaluation is rejected fatally (memory_failure says why) and value is zeroed.
+   !> the evaluation is rejected fatally (memory_failure says why) and value is zeroed
+   !> (left as it is otherwise).
    logical function work_ready(self, stat, value)
       class(ode_problem), intent(inout) :: self
       type(status_type), intent(in) :: stat
-      real(dp), intent(out) :: value(..)
+      real(dp), intent(inout) :: value(..)
       work_ready = stat%code == status_ok
       if (work_ready) return
       self%memory = "out of memory: a work array of the problem"
@@ -370,6 +400,84 @@ contains
       call self%jac_g_band(t, u, self%jacobian_work)
       band = band + self%jacobian_work
    end subroutine full_band_jacobian
+
+   !> y = y + alpha J v, J = df/dU + dg/dU from `jac` (dense) or `jac_band` (banded
+   !> problems) in a work array the problem keeps (allocated at the first call, and again
+   !> only when the shape changes), added column by column: y_i + (alpha v_j) J_ij over
+   !> j in increasing order, as the matrices' multiply_add adds (an override that adds
+   !> the same terms in the same order returns the same numbers bit for bit).
+   subroutine add_jacobian_product(self, t, u, alpha, v, y)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Factor of the product
+      real(dp), intent(in) :: alpha
+      !> Direction, size of u
+      real(dp), intent(in) :: v(:)
+      !> y on entry, y + alpha J v on exit
+      real(dp), intent(inout) :: y(:)
+      type(matrix_structure_type) :: structure
+      type(status_type) :: stat
+      integer :: n, i, j
+      real(dp) :: av
+
+      n = size(u)
+      call self%checked_structure(n, structure, stat)
+      if (structure%storage == storage_band) then
+         call sized(self%product_work, structure%lower + structure%upper + 1, n, &
+            "the problem's work matrix for J v", stat)
+         if (.not. work_ready(self, stat, y)) return
+         call self%jac_band(t, u, self%product_work)
+         do j = 1, n
+            av = alpha*v(j)
+            do i = max(1, j - structure%upper), min(n, j + structure%lower)
+               y(i) = y(i) + av*self%product_work(structure%upper + 1 + i - j, j)
+            end do
+         end do
+      else
+         call sized(self%product_work, n, n, "the problem's work matrix for J v", stat)
+         if (.not. work_ready(self, stat, y)) return
+         call self%jac(t, u, self%product_work)
+         do j = 1, n
+            av = alpha*v(j)
+            do i = 1, n
+               y(i) = y(i) + av*self%product_work(i, j)
+            end do
+         end do
+      end if
+   end subroutine add_jacobian_product
+
+   !> The mass matrix M, m(i, j) = M(i, j) (n x n): called once per integration when
+   !> `has_mass`; the default is the identity. A problem that declares `has_mass`
+   !> overrides it (or `mass_matrix_band` for a band structure).
+   subroutine mass_matrix(self, m)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> M, size(m, 1) = size(m, 2) = n
+      real(dp), intent(out) :: m(:, :)
+      integer :: i
+      m = 0.0_dp
+      do i = 1, min(size(m, 1), size(m, 2))
+         m(i, i) = 1.0_dp
+      end do
+   end subroutine mass_matrix
+
+   !> The mass matrix in LAPACK band storage with the Jacobian's bands, band(upper + 1 +
+   !> i - j, j) = M(i, j) (the Jacobian structure's upper bandwidth); the default is the
+   !> identity.
+   subroutine mass_matrix_band(self, band)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Band storage, (lower + upper + 1) x n
+      real(dp), intent(out) :: band(:, :)
+      integer :: lower, upper
+      call self%bandwidths(size(band, 2), lower, upper)
+      band = 0.0_dp
+      band(max(upper, 0) + 1, :) = 1.0_dp
+   end subroutine mass_matrix_band
 
    !> J_f(t, u) v by a forward difference of f along v (two evaluations of f); problems
    !> with an analytic product override it.

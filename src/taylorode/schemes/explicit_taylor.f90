@@ -2,6 +2,9 @@
 !>
 !>   ex-t-1:  U1 = U0 + h F0
 !>   ex-t-2:  U1 = U0 + h F0 + h^2/2 J0 F0,      delta = h^2/2 J0 F0
+!>
+!> A problem that depends on t gets h^2/2 (J0 F0 + dF/dt) in the second-order term,
+!> dF/dt by a difference in t (the scheme applied to (t, U) with t' = 1).
 module taylorode_schemes_explicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite
@@ -9,7 +12,8 @@ module taylorode_schemes_explicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
-   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g, &
+      evaluate_time_derivative, of_rhs
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
@@ -20,8 +24,10 @@ module taylorode_schemes_explicit_taylor
    type, extends(scheme_type) :: explicit_taylor_type
       !> f(U0), g(U0) and F0 = f(U0) + g(U0)
       real(dp), allocatable :: f0(:), g0(:), rhs0(:)
-      !> h^2/2 J0 F0, the second-order term
+      !> h^2/2 J0 F0 (+ h^2/2 dF/dt), the second-order term
       real(dp), allocatable :: taylor2(:)
+      !> dF/dt at U0, for a problem that depends on t
+      real(dp), allocatable :: rhs_t0(:)
       !> Jacobians at U0
       class(matrix_type), allocatable :: jac_f0, jac_g0
    contains
@@ -73,6 +79,7 @@ contains
       call sized(self%g0, n, what, stat)
       call sized(self%rhs0, n, what, stat)
       call sized(self%taylor2, n, what, stat)
+      call sized(self%rhs_t0, n, what, stat)
       if (stat%code == status_ok) call new_matrix(self%jac_f0, n, self%structure, stat)
       if (stat%code == status_ok) call new_matrix(self%jac_g0, n, self%structure, stat)
       if (stat%code /= status_ok) self%n = 0
@@ -104,6 +111,12 @@ contains
       self%taylor2 = 0.0_dp
       call self%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
       call self%jac_g0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
+      if (.not. problem%autonomous) then
+         ! u1 serves as work array, then gets U0 + h F0 again
+         call evaluate_time_derivative(problem, of_rhs, t, h, u0, self%rhs0, self%rhs_t0, u1, self%counters)
+         self%taylor2 = self%taylor2 + 0.5_dp*h*h*self%rhs_t0
+         u1 = u0 + h*self%rhs0
+      end if
       if (self%order == 2) u1 = u1 + self%taylor2
       if (present(delta)) delta = self%taylor2
    end subroutine explicit_taylor_advance

@@ -12,6 +12,15 @@
 !> whose Schur complement it is: J^2 is never formed, and the solves keep their
 !> rounding errors at the size of h |lambda| instead of (h |lambda|)^2 (see
 !> taylorode_newton_solver).
+!>
+!> The i-t-2 residual needs J(U) F(U) at every iterate: it adds it through the
+!> problem's `add_jacobian_product` (exact: a product of the problem's own, else J from
+!> `jac` times F), so that J itself is evaluated only where a Newton matrix is built.
+!>
+!> A problem that depends on t is advanced as the autonomous scheme advances (t, U)
+!> with t' = 1: i-t-2's residual has h^2/2 (J F + dF/dt)(t1, U), dF/dt by a backward
+!> difference in t (inside the step), and the derivative of J in its Newton matrix is
+!> taken along (1, F).
 module taylorode_schemes_implicit_taylor
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
@@ -20,7 +29,8 @@ module taylorode_schemes_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac, evaluate_rhs
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac, evaluate_rhs, &
+      evaluate_time_derivative, of_rhs
    implicit none
    private
 
@@ -36,7 +46,9 @@ module taylorode_schemes_implicit_taylor
       real(dp), allocatable :: u0(:)
       !> F = f + g at the current iterate
       real(dp), allocatable :: rhs1(:)
-      !> J = J_f + J_g at the current iterate
+      !> dF/dt at the current iterate (i-t-2, a problem that depends on t)
+      real(dp), allocatable :: rhs_t1(:)
+      !> J = J_f + J_g where the last Newton matrix was built
       class(matrix_type), allocatable :: jac1
       !> Whether the i-t-2 Newton matrix has the second-derivative term; J at U +
       !> epsilon F(U) and that point
@@ -127,6 +139,7 @@ contains
          call sized(system%u0, n, what, stat)
          call sized(system%rhs1, n, what, stat)
          call sized(system%probe, n, what, stat)
+         call sized(system%rhs_t1, n, what, stat)
          if (stat%code == status_ok) call new_matrix(system%jac1, n, self%structure, stat)
          if (self%order == 2 .and. stat%code == status_ok) call new_matrix(system%jac_probe, n, self%structure, stat)
       end associate
@@ -201,7 +214,9 @@ contains
       call self%newton(2)%apply_inverse(error, self%counters, stat)
    end subroutine implicit_taylor_step_error
 
-   !> r(U) = U - U0 - h F(U) [+ h^2/2 J(U) F(U) for order 2]; keeps J(U) for the matrix.
+   !> r(U) = U - U0 - h F(U) [+ h^2/2 (J(U) F(U) + dF/dt(U)) for order 2, J F through the
+   !> problem's `add_jacobian_product`, dF/dt = 0 for an autonomous problem]; keeps F(U)
+   !> for the matrix.
    subroutine implicit_taylor_residual(self, problem, u, r, counters)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -210,8 +225,8 @@ contains
       type(counters_type), intent(inout) :: counters
       integer :: i
 
-      ! F in one call (not through a counting wrapper: on small systems each layer of
-      ! calls costs as much as the arithmetic)
+      ! F and J F in one call each (not through counting wrappers: on small systems each
+      ! layer of calls costs as much as the arithmetic)
       call problem%rhs(self%t1, u, self%rhs1)
       counters%f_evaluations = counters%f_evaluations + 1
       counters%g_evaluations = counters%g_evaluations + 1
@@ -219,13 +234,22 @@ contains
          r(i) = u(i) - self%u0(i) - self%h*self%rhs1(i)
       end do
       if (self%order == 2) then
-         call jacobian_at(self, problem, u, counters)
-         call self%jac1%multiply_add(0.5_dp*self%h*self%h, self%rhs1, r)
+         call problem%add_jacobian_product(self%t1, u, 0.5_dp*self%h*self%h, self%rhs1, r)
+         counters%jacobian_products = counters%jacobian_products + 1
+         if (.not. problem%autonomous) then
+            call evaluate_time_derivative(problem, of_rhs, self%t1, -self%h, u, self%rhs1, self%rhs_t1, self%probe, &
+               counters)
+            do i = 1, size(u)
+               r(i) = r(i) + 0.5_dp*self%h*self%h*self%rhs_t1(i)
+            end do
+         end if
       end if
    end subroutine implicit_taylor_residual
 
    !> I - h J(U), or for order 2 the stacked [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]]
-   !> (J(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]).
+   !> (F(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]);
+   !> F''[F] is the derivative of J along (1, F) in (t, U) (with dJ/dt when the problem
+   !> depends on t, then by a backward difference, inside the step).
    subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -234,34 +258,34 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
-      real(dp) :: epsilon_f
+      real(dp) :: epsilon_f, side, t_probe
 
+      call evaluate_jac(problem, self%t1, u, self%jac1, counters)
       if (self%order /= 2) then
-         call jacobian_at(self, problem, u, counters)
          call matrix%add_scaled(-self%h, self%jac1, stat)
       else
          call matrix%add_block(-self%h, self%jac1, 1, 1, stat)
          call matrix%add_block(0.5_dp*self%h, self%jac1, 1, 2, stat)
          call matrix%add_block(-self%h, self%jac1, 2, 1, stat)
          if (self%second_derivatives .and. allocated(self%jac_probe)) then
-            ! F''(U)[F] = (J(U + e F) - J(U)) / e, e F of the size of sqrt(eps) |U|
-            epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
-            self%probe = u + epsilon_f*self%rhs1
-            call evaluate_jac(problem, self%t1, self%probe, self%jac_probe, counters)
+            ! F''(U)[F] = (J(t1 + e, U + e F) - J(t1, U)) / e, e (1, F) of the size of
+            ! sqrt(eps) |U| (e < 0 and t1 + e when the problem depends on t)
+            if (problem%autonomous) then
+               side = 1.0_dp
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
+               t_probe = self%t1
+            else
+               side = -1.0_dp
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/hypot(norm2(self%rhs1), 1.0_dp)
+               t_probe = self%t1 - epsilon_f
+            end if
+            self%probe = u + side*epsilon_f*self%rhs1
+            call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters)
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
-            call matrix%add_block(0.5_dp*self%h*self%h/epsilon_f, self%jac_probe, 1, 1, stat)
+            call matrix%add_block(0.5_dp*self%h*self%h/(side*epsilon_f), self%jac_probe, 1, 1, stat)
          end if
       end if
       call matrix%add_identity(1.0_dp)
    end subroutine implicit_taylor_matrix
-
-   !> jac1 = J_f(u) + J_g(u), in one call of the problem's `jac`
-   subroutine jacobian_at(self, problem, u, counters)
-      class(implicit_taylor_system_type), intent(inout) :: self
-      class(ode_problem), intent(inout) :: problem
-      real(dp), intent(in) :: u(:)
-      type(counters_type), intent(inout) :: counters
-      call evaluate_jac(problem, self%t1, u, self%jac1, counters)
-   end subroutine jacobian_at
 
 end module taylorode_schemes_implicit_taylor

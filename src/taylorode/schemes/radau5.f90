@@ -21,15 +21,16 @@
 !> - Newton starts from the collocation polynomial of the last accepted step,
 !>   extrapolated to the new stages (zero before the first accepted step);
 !> - Newton stops when theta/(1 - theta) |dW| <= 1 in the weighted RMS norm of the
-!>   tolerance the integrator passes, after at most 7 iterations, and gives up as
-!>   soon as the contraction rate says it would not converge within them (a step
-!>   without error estimate, as `integrate_fixed` takes, cannot be shrunk: Newton
-!>   then goes on while it contracts, up to 50 iterations);
+!>   tolerance the integrator passes, after at most NIT iterations (the integrator's
+!>   max_newton_iterations, by default RADAU5's 7), and gives up as soon as the
+!>   contraction rate says it would not converge within them (a step without error
+!>   estimate, as `integrate_fixed` takes, cannot be shrunk: Newton then goes on while
+!>   it contracts, up to 50 iterations);
 !> - the error estimate (embedded order 3)
 !>     delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h]
-!>   reuses the real factorization, and at the first step and on every retry is
-!>   filtered once more with F(t0, U0 + delta) (ESTRAD); RADAU5 filters only when
-!>   the first estimate fails the error test, which the scheme cannot see;
+!>   reuses the real factorization; when it fails the error test at the first step
+!>   or on a retry, the integrator asks for it filtered once more with
+!>   F(t0, U0 + delta) (`refine_estimate`, RADAU5's ESTRAD);
 !> - the collocation polynomial of the accepted step is its dense output
 !>   (`dense_output`, RADAU5's CONTR5): output times, observers and events cost no
 !>   evaluation of F;
@@ -51,6 +52,21 @@
 !> step at most the integrator's). What the integrator does not take from RADAU5:
 !> the first step size.
 !>
+!> Mass matrices: with a problem that declares a constant mass matrix M (`has_mass`:
+!> M U' = F, M possibly singular, the index-1 differential-algebraic systems RADAU5 is
+!> used for) the stage equations are M Z_i = h sum_j a_ij F(Y_j), the two Newton
+!> systems (gamma/h) M - J and ((alpha + i beta)/h) M - J, the Newton right-hand sides
+!> subtract M W instead of W, and the error estimate multiplies its stage part by M:
+!>   delta = ((gamma/h) M - J)^(-1) [F(t0, U0) + M (d1 Z1 + d2 Z2 + d3 Z3)/h],
+!> all as radau5.f does (its IJOB 3, 4 and 5). M is asked of the problem once per
+!> integration, in the storage of its Jacobian structure.
+!>
+!> Settings a caller may change after `new_radau5` (the legacy entry maps RADAU5's
+!> IWORK(4), WORK(3), WORK(5) and WORK(6) onto them): `zero_start` (Newton from zero
+!> stage increments instead of the extrapolated polynomial), `jacobian_reuse` (THET:
+!> the contraction rate up to which J serves the next step; negative: a new J after
+!> every accepted step) and `hold_low`, `hold_high` (QUOT1, QUOT2).
+!>
 !> Counters: one LU factorization counts the real and the complex factorization
 !> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
 !> systems) and per error-estimate solve.
@@ -60,7 +76,7 @@ module taylorode_schemes_radau5
       status_evaluation_failed, status_nonfinite, &
       status_newton_diverged, status_newton_not_converged
    use taylorode_base_memory, only: sized
-   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, new_matrix, storage_dense
+   use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver, finite_diagonal
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
    use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
@@ -96,7 +112,7 @@ module taylorode_schemes_radau5
       ti23 = 0.47662355450055045196_dp, ti31 = -0.50287263494578687595_dp, ti32 = 2.5719269498556054292_dp, &
       ti33 = -0.59603920482822492497_dp
 
-   !> Newton iterations allowed per step (RADAU5's NIT)
+   !> Newton iterations allowed per step by default (RADAU5's NIT)
    integer, parameter :: newton_iteration_limit = 7
    !> Newton iterations allowed per fixed step (no error estimate asked: the caller
    !> cannot shrink the step, so a slowly contracting iteration is carried on)
@@ -106,7 +122,7 @@ module taylorode_schemes_radau5
    !> Contraction rate from which Newton counts as diverging
    real(dp), parameter :: divergence_rate = 0.99_dp
    !> Step-size factors h_new / h kept as h after fast Newton (QUOT1, QUOT2)
-   real(dp), parameter :: hold_low = 1.0_dp, hold_high = 1.2_dp
+   real(dp), parameter :: default_hold_low = 1.0_dp, default_hold_high = 1.2_dp
    !> FNEWT = max(10 eps / rtol, min(newton_fraction_cap, sqrt(rtol)))
    real(dp), parameter :: newton_fraction_cap = 0.03_dp
    !> Step-size factor after a Newton failure without a contraction rate to go by
@@ -130,6 +146,13 @@ module taylorode_schemes_radau5
       logical :: small = .false.
       !> ((alpha + i beta)/h) I - J and its factors
       type(complex_solver_type) :: complex_solver
+      !> The problem's constant mass matrix M (with `with_mass`), in the Jacobian's storage
+      class(matrix_type), allocatable :: mass
+      !> M times the transformed stage increments W (with a mass matrix)
+      real(dp), allocatable :: mw(:, :)
+      !> Whether the problem has a mass matrix, and whether M has been asked for since
+      !> the restart
+      logical :: with_mass = .false., mass_loaded = .false.
       !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and F at the stages, then
       !> the Newton right-hand sides and increments of W
       real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
@@ -162,6 +185,17 @@ module taylorode_schemes_radau5
       integer :: newton_count = 0
       !> Step-size factor for a retry should the last attempt have failed
       real(dp) :: retry_factor = failure_halving
+      !> Newton iterations allowed in the current step (NIT)
+      integer :: iteration_limit = newton_iteration_limit
+      !> Start Newton from zero stage increments (RADAU5's IWORK(4) /= 0) instead of the
+      !> collocation polynomial of the last step
+      logical :: zero_start = .false.
+      !> Contraction rate up to which J serves the next step (RADAU5's THET, WORK(3));
+      !> negative: a new J after every accepted step
+      real(dp) :: jacobian_reuse = jacobian_reuse_rate
+      !> After fast Newton an accepted step keeps h when h_new / h is in
+      !> [hold_low, hold_high] (RADAU5's QUOT1, QUOT2: WORK(5), WORK(6))
+      real(dp) :: hold_low = default_hold_low, hold_high = default_hold_high
    contains
       !> One step of Radau IIA and, when asked, the filtered order-3 error estimate
       procedure :: advance => radau_advance
@@ -173,6 +207,7 @@ module taylorode_schemes_radau5
       procedure :: newton_fraction => radau_newton_fraction
       procedure :: dense_output => radau_dense_output
       procedure :: failure_factor => radau_failure_factor
+      procedure :: refine_estimate => radau_refine_estimate
    end type radau5_type
 
 contains
@@ -190,6 +225,9 @@ contains
       self%weights_at_start = .true.
       self%takes_newton_guess = .false.
       self%dense_degree = 3
+      self%newton_iterations = newton_iteration_limit
+      self%refines_estimate = .true.
+      self%solves_mass = .true.
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
    end function new_radau5
@@ -209,8 +247,8 @@ contains
    pure real(dp) function radau_step_safety(self, kappa) result(safety)
       class(radau5_type), intent(in) :: self
       real(dp), intent(in) :: kappa
-      safety = min(kappa, kappa*real(1 + 2*newton_iteration_limit, dp)/ &
-         real(self%newton_count + 2*newton_iteration_limit, dp))
+      safety = min(kappa, kappa*real(1 + 2*self%iteration_limit, dp)/ &
+         real(self%newton_count + 2*self%iteration_limit, dp))
    end function radau_step_safety
 
    !> Keep h for factors in [1, 1.2] after fast Newton (the factorizations then
@@ -218,9 +256,9 @@ contains
    pure subroutine radau_step_hold(self, low, high)
       class(radau5_type), intent(in) :: self
       real(dp), intent(out) :: low, high
-      low = hold_low
-      high = hold_low
-      if (self%theta <= jacobian_reuse_rate) high = hold_high
+      low = self%hold_low
+      high = self%hold_low
+      if (self%theta <= self%jacobian_reuse) high = self%hold_high
       if (self%retry) high = huge(1.0_dp)
    end subroutine radau_step_hold
 
@@ -280,46 +318,79 @@ contains
       self%factored = .false.
       self%rhs0_valid = .false.
       self%retry = .false.
-      self%theta = jacobian_reuse_rate
+      self%theta = abs(self%jacobian_reuse)
       self%faccon = 1.0_dp
       self%faccon_raises = 0
       self%newton_count = 0
+      self%mass_loaded = .false.
    end subroutine radau_restart
 
-   !> Work arrays and matrices in the storage the problem declares.
+   !> Work arrays and matrices in the storage the problem declares (and the mass
+   !> matrix's, when the problem has one).
    subroutine radau_prepare(self, problem, n, stat)
       class(radau5_type), intent(inout) :: self
       class(ode_problem), intent(in) :: problem
       integer, intent(in) :: n
       type(status_type), intent(inout) :: stat
       character(len=*), parameter :: what = "radau5's stages and work arrays"
-      if (.not. self%resize(problem, n, stat)) return
-      call new_matrix(self%jac, n, self%structure, stat)
-      if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
-      if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
-      if (stat%code /= status_ok) then
-         self%n = 0
-         return
+      logical :: resized
+      resized = self%resize(problem, n, stat)
+      if (stat%code /= status_ok) return
+      if (resized) then
+         call new_matrix(self%jac, n, self%structure, stat)
+         if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
+         if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+         if (stat%code /= status_ok) then
+            self%n = 0
+            return
+         end if
+         self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
+         call sized(self%z, n, 3, what, stat)
+         call sized(self%w, n, 3, what, stat)
+         call sized(self%r, n, 3, what, stat)
+         call sized(self%polynomial, n, 3, what, stat)
+         call sized(self%u_start, n, what, stat)
+         call sized(self%rhs0, n, what, stat)
+         call sized(self%stage, n, what, stat)
+         call sized(self%estimate, n, what, stat)
+         call sized(self%stage_part, n, what, stat)
+         if (stat%code /= status_ok) then
+            self%n = 0
+            return
+         end if
+         ! (at most small_lu_max_order: a few kilobytes)
+         if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, &
+            self%small_inverse_diagonal)
+         if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
+         if (allocated(self%mass)) deallocate (self%mass)
+         call self%restart()
       end if
-      self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
-      call sized(self%z, n, 3, what, stat)
-      call sized(self%w, n, 3, what, stat)
-      call sized(self%r, n, 3, what, stat)
-      call sized(self%polynomial, n, 3, what, stat)
-      call sized(self%u_start, n, what, stat)
-      call sized(self%rhs0, n, what, stat)
-      call sized(self%stage, n, what, stat)
-      call sized(self%estimate, n, what, stat)
-      call sized(self%stage_part, n, what, stat)
-      if (stat%code /= status_ok) then
-         self%n = 0
-         return
+      self%with_mass = problem%has_mass
+      self%mass_loaded = .false.
+      if (self%with_mass .and. .not. allocated(self%mass)) then
+         call new_matrix(self%mass, n, self%structure, stat)
+         if (stat%code == status_ok) call sized(self%mw, n, 3, what, stat)
+         if (stat%code /= status_ok) then
+            if (allocated(self%mass)) deallocate (self%mass)
+            self%n = 0
+            return
+         end if
       end if
-      ! (at most small_lu_max_order: a few kilobytes)
-      if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, self%small_inverse_diagonal)
-      if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
-      call self%restart()
    end subroutine radau_prepare
+
+   !> M from the problem, in the storage of its Jacobian structure (once per integration).
+   subroutine load_mass(self, problem)
+      type(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      select type (mass => self%mass)
+      type is (dense_matrix_type)
+         call problem%mass_matrix(mass%a)
+      type is (band_matrix_type)
+         call problem%mass_matrix_band(mass%ab(mass%fill + 1:, :))
+      end select
+      self%mass_loaded = .true.
+      self%factored = .false.
+   end subroutine load_mass
 
    subroutine radau_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(radau5_type), intent(inout) :: self
@@ -336,6 +407,8 @@ contains
 
       n = self%n
       self%retry_factor = failure_halving
+      self%iteration_limit = newton%max_iterations
+      if (self%with_mass .and. .not. self%mass_loaded) call load_mass(self, problem)
       call begin_step()
       if (.not. self%jacobian_valid) then
          call evaluate_jac(problem, t, u0, self%jac, self%counters)
@@ -392,7 +465,7 @@ contains
             end do
             self%rhs0_valid = .false.
             ! the Jacobian of the previous point serves only after fast Newton there
-            if (.not. (newton%reuse_matrix .and. self%theta <= jacobian_reuse_rate)) self%jacobian_valid = .false.
+            if (.not. (newton%reuse_matrix .and. self%theta <= self%jacobian_reuse)) self%jacobian_valid = .false.
             self%jacobian_fresh = .false.
          else
             self%retry = .true.
@@ -404,7 +477,8 @@ contains
 
    end subroutine radau_advance
 
-   !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J.
+   !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J (M instead of I with a mass
+   !> matrix).
    subroutine factor_matrices(self, h, stat)
       type(radau5_type), intent(inout) :: self
       real(dp), intent(in) :: h
@@ -419,9 +493,15 @@ contains
                do i = 1, self%n
                   self%small_matrix(i, j) = -jac%a(i, j)
                end do
-               self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
+               if (.not. self%with_mass) self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
             end do
          end select
+         if (self%with_mass) then
+            select type (mass => self%mass)
+            type is (dense_matrix_type)
+               self%small_matrix = self%small_matrix + (real_eigenvalue/h)*mass%a
+            end select
+         end if
          call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
          ! a Jacobian that is NaN or Inf leaves NaN or Inf among the pivots (see
@@ -429,11 +509,19 @@ contains
          if (.not. finite_diagonal(self%small_matrix)) call set_code(stat, status_nonfinite)
       else
          call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
-         call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+         if (self%with_mass) then
+            call self%real_solver%matrix%add_scaled(real_eigenvalue/h, self%mass, stat)
+         else
+            call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+         end if
          if (stat%code == status_ok) call self%real_solver%factor(stat)
       end if
       if (stat%code /= status_ok) return
-      call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
+      if (self%with_mass) then
+         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat, self%mass)
+      else
+         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
+      end if
       if (stat%code == status_ok) call self%complex_solver%factor(stat)
       self%counters%lu_factorizations = self%counters%lu_factorizations + 1
       if (stat%code /= status_ok) return
@@ -483,7 +571,7 @@ contains
       integer :: n, i, s, newt, limit
       real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
       real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, magnitude, stage_time(3)
-      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:)
+      real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), wm(:, :)
 
       n = self%n
       u0 => self%u_start
@@ -491,7 +579,10 @@ contains
       w => self%w
       r => self%r
       stage => self%stage
-      if (self%have_polynomial) then
+      ! W in the Newton right-hand sides, or M W with a mass matrix
+      wm => self%w
+      if (self%with_mass) wm => self%mw
+      if (self%have_polynomial .and. .not. self%zero_start) then
          c3q = h/self%h_polynomial
          c1q = c1*c3q
          c2q = c2*c3q
@@ -525,11 +616,11 @@ contains
       betan = beta/h
       stage_time = [t + c1*h, t + c2*h, t + h]
       self%faccon_raises = self%faccon_raises + 1
-      self%theta = jacobian_reuse_rate
+      self%theta = abs(self%jacobian_reuse)
       dynold = 1.0_dp
       thqold = 1.0_dp
       newt = 0
-      limit = merge(newton_iteration_limit, fixed_step_iterations, adaptive)
+      limit = merge(self%iteration_limit, fixed_step_iterations, adaptive)
       do
          if (newt >= limit) then
             call fail(status_newton_not_converged)
@@ -548,6 +639,12 @@ contains
             call fail(status_evaluation_failed)
             return
          end if
+         if (self%with_mass) then
+            do s = 1, 3
+               self%mw(:, s) = 0.0_dp
+               call self%mass%multiply_add(1.0_dp, w(:, s), self%mw(:, s))
+            end do
+         end if
          ! the sum of |F| is finite unless some F is NaN or Inf (or all are so large that
          ! the sum overflows): one test instead of one per value, a quarter of the cost
          magnitude = 0.0_dp
@@ -556,9 +653,9 @@ contains
             f2 = r(i, 2)
             f3 = r(i, 3)
             magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
-            r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*w(i, 1)
-            r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*w(i, 2) + betan*w(i, 3)
-            r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*w(i, 3) - betan*w(i, 2)
+            r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*wm(i, 1)
+            r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*wm(i, 2) + betan*wm(i, 3)
+            r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*wm(i, 3) - betan*wm(i, 2)
          end do
          if (.not. ieee_is_finite(magnitude)) then
             call fail(status_nonfinite)
@@ -609,10 +706,10 @@ contains
                self%faccon_raises = 0
                if (adaptive) then
                   ! the error left after the remaining iterations at this rate
-                  dyth = self%faccon*dyno*self%theta**(newton_iteration_limit - 1 - newt)
+                  dyth = self%faccon*dyno*self%theta**(limit - 1 - newt)
                   if (dyth >= 1.0_dp) then
                      self%retry_factor = failure_safety*min(failure_high, dyth)** &
-                        (-1.0_dp/real(3 + newton_iteration_limit - newt, dp))
+                        (-1.0_dp/real(3 + limit - newt, dp))
                      call fail(status_newton_not_converged)
                      return
                   end if
@@ -667,8 +764,8 @@ contains
       a3 = a2 - acont3
    end subroutine collocation_polynomial
 
-   !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h], filtered
-   !> once more through F(t0, U0 + delta) at the first step and on retries.
+   !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h] (M times the
+   !> stage part with a mass matrix; the stage part kept for a filtered estimate).
    subroutine estimate_error(self, problem, t, h, stat)
       type(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -678,39 +775,60 @@ contains
       real(dp) :: hee1, hee2, hee3
 
       if (.not. self%rhs0_valid) then
-         call rhs(t, self%u_start, self%rhs0)
+         call problem%rhs(t, self%u_start, self%rhs0)
+         self%counters%f_evaluations = self%counters%f_evaluations + 1
+         self%counters%g_evaluations = self%counters%g_evaluations + 1
          self%rhs0_valid = .true.
       end if
       hee1 = dd1/h
       hee2 = dd2/h
       hee3 = dd3/h
+      if (self%with_mass) then
+         do i = 1, self%n
+            self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+            self%stage_part(i) = 0.0_dp
+         end do
+         call self%mass%multiply_add(1.0_dp, self%stage, self%stage_part)
+      else
+         do i = 1, self%n
+            self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+         end do
+      end if
       do i = 1, self%n
-         self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
          self%estimate(i) = self%stage_part(i) + self%rhs0(i)
       end do
       call solve_real(self, self%estimate, stat)
       self%counters%linear_solves = self%counters%linear_solves + 1
-      if (stat%code /= status_ok) return
+   end subroutine estimate_error
+
+   !> RADAU5's second estimate when the first fails the error test at the first step or
+   !> on a retry: delta = ((gamma/h) I - J)^(-1) [F(t0, U0 + delta) + (d1 Z1 + d2 Z2 +
+   !> d3 Z3)/h], which damps what the first one lets through in stiff directions. None
+   !> for an attempt that follows an accepted step (RADAU5's neither).
+   subroutine radau_refine_estimate(self, problem, t, h, delta, refined, stat)
+      class(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), contiguous, intent(inout) :: delta(:)
+      logical, intent(out) :: refined
+      type(status_type), intent(inout) :: stat
+      integer :: i
+      refined = .false.
+      if (.not. (self%have_stages .and. t == self%t_start .and. h == self%h_stages)) return
       if (self%have_polynomial .and. .not. self%retry) return
+      refined = .true.
       do i = 1, self%n
-         self%stage(i) = self%u_start(i) + self%estimate(i)
+         self%stage(i) = self%u_start(i) + delta(i)
       end do
-      call rhs(t, self%stage, self%estimate)
+      call problem%rhs(t, self%stage, self%estimate)
+      self%counters%f_evaluations = self%counters%f_evaluations + 1
+      self%counters%g_evaluations = self%counters%g_evaluations + 1
       do i = 1, self%n
          self%estimate(i) = self%estimate(i) + self%stage_part(i)
       end do
       call solve_real(self, self%estimate, stat)
       self%counters%linear_solves = self%counters%linear_solves + 1
-   contains
-      !> value = F(time, state) = f + g, counted
-      subroutine rhs(time, state, value)
-         real(dp), intent(in) :: time
-         real(dp), contiguous, intent(in) :: state(:)
-         real(dp), contiguous, intent(out) :: value(:)
-         call problem%rhs(time, state, value)
-         self%counters%f_evaluations = self%counters%f_evaluations + 1
-         self%counters%g_evaluations = self%counters%g_evaluations + 1
-      end subroutine rhs
-   end subroutine estimate_error
+      delta = self%estimate
+   end subroutine radau_refine_estimate
 
 end module taylorode_schemes_radau5

@@ -17,13 +17,17 @@ module taylorode_schemes_scheme
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type
    use taylorode_problem_ode, only: ode_problem
-   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance
+   use taylorode_newton_solver, only: newton_settings_type, default_newton_tolerance, default_max_newton_iterations
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
    public :: scheme_type, default_newton_settings, default_newton_fraction, stability_quotient
    public :: evaluate_f, evaluate_g, evaluate_rhs, evaluate_jac_f, evaluate_jac_g, evaluate_jac
+   public :: evaluate_time_derivative, of_f, of_g, of_rhs
+
+   !> The part of F a time derivative is taken of: f, g, or F = f + g (one call of `rhs`)
+   integer, parameter :: of_f = 1, of_g = 2, of_rhs = 3
 
    !> Fraction of the error weights below which Newton increments must fall with the
    !> paper's Newton test, for schemes that take the integrator's default
@@ -85,6 +89,15 @@ module taylorode_schemes_scheme
       !> beyond what the stability function says (si-t-2: its h^2/2 J_f0 F0 evaluates the
       !> stiff g at the start explicitly); `propagated_error` says by how much
       logical :: amplifies_errors = .false.
+      !> Newton iterations per system when the options leave the limit to the scheme
+      !> (options%max_newton_iterations = 0): 10, radau5 7 (RADAU5's NIT)
+      integer :: newton_iterations = default_max_newton_iterations
+      !> Whether it solves M U' = F with a problem's constant mass matrix (radau5); the
+      !> others refuse a problem that declares one
+      logical :: solves_mass = .false.
+      !> Whether `refine_estimate` may give a second, filtered error estimate when the
+      !> embedded one fails the error test (radau5, as RADAU5's ESTRAD)
+      logical :: refines_estimate = .false.
    contains
       !> One step with argument checks (sizes, h > 0, finite data)
       procedure, non_overridable :: take_step
@@ -114,6 +127,8 @@ module taylorode_schemes_scheme
       procedure :: step_error
       !> What an error of the state the step just taken ended in adds to the next step
       procedure :: propagated_error
+      !> A second estimate of the step's error when the first failed the error test
+      procedure :: refine_estimate
    end type scheme_type
 
    abstract interface
@@ -390,9 +405,31 @@ contains
       propagated = 0.0_dp
    end subroutine propagated_error
 
+   !> A second estimate of the error of the step just taken (size h from t), asked for
+   !> when its embedded estimate `delta` failed the error test, for schemes that declare
+   !> `refines_estimate`: delta is replaced and `refined` set when the scheme has one for
+   !> this attempt (radau5 at the first step and on retries, as RADAU5). The default has
+   !> none.
+   subroutine refine_estimate(self, problem, t, h, delta, refined, stat)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> Start and size of the step just taken
+      real(dp), intent(in) :: t, h
+      !> The estimate on entry, the refined one on exit when `refined`
+      real(dp), contiguous, intent(inout) :: delta(:)
+      !> Whether delta was replaced
+      logical, intent(out) :: refined
+      !> Outcome (an evaluation that failed)
+      type(status_type), intent(inout) :: stat
+      refined = .false.
+   end subroutine refine_estimate
+
    !> Record size n and the problem's (checked) Jacobian structure; true when they
    !> differ from what the work arrays were prepared for (the caller then
-   !> reallocates). An impossible structure leaves stat set and returns false.
+   !> reallocates). An impossible structure, or a mass matrix the scheme does not
+   !> solve, leaves stat set and returns false.
    logical function resize(self, problem, n, stat)
       !> The scheme
       class(scheme_type), intent(inout) :: self
@@ -404,6 +441,11 @@ contains
       type(status_type), intent(inout) :: stat
       type(matrix_structure_type) :: structure
       resize = .false.
+      if (problem%has_mass .and. .not. self%solves_mass) then
+         call set_status(stat, status_invalid_argument, "the problem has a mass matrix (M U' = F), which only "// &
+            "radau5 solves; "//self%name//" does not")
+         return
+      end if
       call problem%checked_structure(n, structure, stat)
       if (stat%code /= status_ok) return
       resize = .not. (self%n == n .and. self%structure%storage == structure%storage .and. &
@@ -411,6 +453,67 @@ contains
       self%n = n
       self%structure = structure
    end function resize
+
+   !> Counted d(part)/dt at (t, u), part f, g or F (of_f, of_g, of_rhs), by the
+   !> second-order one-sided difference through part(t, u) = value (known to the
+   !> caller), part(t + d, u) and part(t + 2d, u), d of the sign of `step`, |d| =
+   !> |step|/128 (at least 64 eps |t|). The schemes use h^2/2 dF/dt: the difference's
+   !> own error, d^2/3 F_ttt, adds 1e-5 h^4 F_ttt to a step, and its rounding error is
+   !> 1e-13 of the change of F over the step, smooth in U to what Newton resolves (a
+   !> difference over sqrt(eps) |t| would leave 1e-8 of it, noise that stops Newton).
+   !> A scheme takes it into its step (step = h forward from the start, -h backward
+   !> from the end), so that no difference reaches across a step's end, where a
+   !> problem may jump in t.
+   subroutine evaluate_time_derivative(problem, part, t, step, u, value, derivative, work, counters)
+      !> The problem
+      class(ode_problem), intent(inout) :: problem
+      !> of_f, of_g or of_rhs
+      integer, intent(in) :: part
+      !> Time
+      real(dp), intent(in) :: t
+      !> The step the difference is taken into: its length and side of t
+      real(dp), intent(in) :: step
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> part(t, u)
+      real(dp), intent(in) :: value(:)
+      !> d(part)/dt at (t, u)
+      real(dp), intent(out) :: derivative(:)
+      !> Work array of the size of u
+      real(dp), intent(out) :: work(:)
+      !> Work counters
+      type(counters_type), intent(inout) :: counters
+      real(dp) :: d, a, b, ca, cb
+      integer :: i
+      d = sign(max(abs(step)/128.0_dp, 64.0_dp*epsilon(1.0_dp)*abs(t)), step)
+      ! the offsets as the times represent them, and the weights of the quadratic
+      ! through the three values, differentiated at t
+      a = (t + d) - t
+      b = (t + 2.0_dp*d) - t
+      ca = b/(a*(b - a))
+      cb = -a/(b*(b - a))
+      call evaluate_part(t + a, derivative)
+      call evaluate_part(t + b, work)
+      ! the weight of value is -(ca + cb): as differences, exactly 0 where part does
+      ! not depend on t
+      do i = 1, size(u)
+         derivative(i) = ca*(derivative(i) - value(i)) + cb*(work(i) - value(i))
+      end do
+   contains
+      !> part(time, u), counted
+      subroutine evaluate_part(time, result)
+         real(dp), intent(in) :: time
+         real(dp), intent(out) :: result(:)
+         select case (part)
+         case (of_f)
+            call evaluate_f(problem, time, u, result, counters)
+         case (of_g)
+            call evaluate_g(problem, time, u, result, counters)
+         case default
+            call evaluate_rhs(problem, time, u, result, counters)
+         end select
+      end subroutine evaluate_part
+   end subroutine evaluate_time_derivative
 
    !> Counted evaluation of f.
    subroutine evaluate_f(problem, t, u, value, counters)

@@ -8,6 +8,11 @@
 !>
 !> Embedded pairs: si-t-1 with si-t-2, si-t-2 with si-t-1, si-t-2-paper with si-t-1.
 !>
+!> A problem that depends on t is advanced as the autonomous scheme advances (t, U)
+!> with t' = 1 (in f): si-t-2 adds h^2/2 (f_t0 - g_t0), si-t-2-paper h^2/2 (f_t0 +
+!> g_t0) to the known part of its equation, the time derivatives at U0 by differences
+!> in t, and si-t-2's error estimate subtracts h g_t0 from E.
+!>
 !> The second-order members' Newton matrices I - h J_g1 + h^2/2 P J_g1 (P = J_g0, or
 !> J0 for si-t-2-paper; si-t-2 adds h^2/2 J_g0 J_f0) are factored as the stacked
 !> matrices [[I - h J_g1, h/2 P], [-h Q, I]] (Q = J_f0 + J_g1 for si-t-2, J_g1 for
@@ -32,7 +37,8 @@ module taylorode_schemes_semi_implicit_taylor
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
-   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g
+   use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, &
+      evaluate_jac_g, evaluate_time_derivative, of_f, of_g
    implicit none
    private
 
@@ -82,12 +88,15 @@ module taylorode_schemes_semi_implicit_taylor
       integer :: partner = si_t_1
       !> f and g at U0
       real(dp), allocatable :: f0(:), g0(:)
+      !> df/dt and dg/dt at U0, for a problem that depends on t
+      real(dp), allocatable :: f_t0(:), g_t0(:)
       !> The state the values at U0 belong to
       real(dp), allocatable :: u_start(:)
       !> The time the values at U0 belong to
       real(dp) :: t_start = 0.0_dp
-      !> Which values at U0 are known: f0, g0 (and F0), the Jacobians J_f0 and J_g0
-      logical :: known_f0 = .false., known_g0 = .false., known_jacobians = .false.
+      !> Which values at U0 are known: f0, g0 (and F0), the Jacobians J_f0 and J_g0,
+      !> the time derivatives f_t0 and g_t0
+      logical :: known_f0 = .false., known_g0 = .false., known_jacobians = .false., known_time_derivatives = .false.
       !> Whether each member's Newton solver and matrices exist
       logical :: ready(3) = .false.
       !> The equation being solved
@@ -177,6 +186,8 @@ contains
       call sized(self%f0, n, what, stat)
       call sized(self%g0, n, what, stat)
       call sized(self%u_start, n, what, stat)
+      call sized(self%f_t0, n, what, stat)
+      call sized(self%g_t0, n, what, stat)
       call forget_start(self)
       associate (system => self%system)
          call sized(system%f1, n, what, stat)
@@ -276,9 +287,17 @@ contains
             end if
             self%known_jacobians = .true.
          end if
-         if (needed(si_t_2) .and. .not. self%known_g0) then
+         if ((needed(si_t_2) .or. (needed(si_t_2_paper) .and. .not. problem%autonomous)) .and. &
+            .not. self%known_g0) then
             call evaluate_g(problem, t, u0, self%g0, self%counters)
             self%known_g0 = .true.
+         end if
+         if ((needed(si_t_2) .or. needed(si_t_2_paper)) .and. .not. problem%autonomous .and. &
+            .not. self%known_time_derivatives) then
+            ! forward from t: inside the step
+            call evaluate_time_derivative(problem, of_f, t, h, u0, self%f0, self%f_t0, system%g1, self%counters)
+            call evaluate_time_derivative(problem, of_g, t, h, u0, self%g0, self%g_t0, system%g1, self%counters)
+            self%known_time_derivatives = .true.
          end if
          ! values the problem rejected are not kept
          if (problem%evaluation_rejected()) call forget_start(self)
@@ -288,12 +307,16 @@ contains
             ! F0 in f1, free until the residual
             system%f1 = self%f0 + self%g0
             call system%jac_f0%multiply_add(0.5_dp*h*h, system%f1, system%known(si_t_2)%values)
+            if (.not. problem%autonomous) system%known(si_t_2)%values = system%known(si_t_2)%values + &
+               0.5_dp*h*h*(self%f_t0 - self%g_t0)
          end if
          if (needed(si_t_2_paper)) then
             call system%jac0%set_scaled(1.0_dp, system%jac_f0, stat)
             call system%jac0%add_scaled(1.0_dp, system%jac_g0, stat)
             system%known(si_t_2_paper)%values = u0 + h*self%f0
             call system%jac0%multiply_add(0.5_dp*h*h, self%f0, system%known(si_t_2_paper)%values)
+            if (.not. problem%autonomous) system%known(si_t_2_paper)%values = system%known(si_t_2_paper)%values + &
+               0.5_dp*h*h*(self%f_t0 + self%g_t0)
          end if
          if (stat%code /= status_ok) return
 
@@ -326,10 +349,12 @@ contains
       self%known_f0 = .false.
       self%known_g0 = .false.
       self%known_jacobians = .false.
+      self%known_time_derivatives = .false.
    end subroutine forget_start
 
    !> The local error of the si-t-2 step just taken from (t, u0) to u1. With D = U1 -
-   !> U0 - h/2 (F0 + F1), the trapezoidal defect, and E = g1 - g0 - J_g0 (U1 - U0), the
+   !> U0 - h/2 (F0 + F1), the trapezoidal defect, and E = g1 - g0 - J_g0 (U1 - U0) (- h
+   !> g_t0 when the problem depends on t), the
    !> error is -h^3/6 U''' + h^3/2 g''(F, F) + O(h^4) = 2/3 D + h/3 E + O(h^4); the
    !> estimate is that, multiplied by the inverse of the step's Newton matrix (which
    !> leaves it unchanged to O(h^4) and damps the stiff components as the step
@@ -343,7 +368,8 @@ contains
       type(status_type), intent(inout) :: stat
       integer :: i
       error = 0.0_dp
-      if (self%member /= si_t_2 .or. .not. (self%known_f0 .and. self%known_g0 .and. self%known_jacobians)) then
+      if (self%member /= si_t_2 .or. .not. (self%known_f0 .and. self%known_g0 .and. self%known_jacobians .and. &
+         (self%known_time_derivatives .or. problem%autonomous))) then
          call set_code(stat, status_invalid_argument)
          return
       end if
@@ -358,11 +384,12 @@ contains
          do i = 1, size(u1)
             error(i) = (2.0_dp/3.0_dp)*(u1(i) - u0(i) - 0.5_dp*h*((self%f0(i) + self%g0(i)) + system%f1(i) + system%g1(i)))
          end do
-         if (.not. problem%linear_g) then
+         if (.not. (problem%linear_g .and. problem%autonomous)) then
             ! U0 - U1 in the known part of the step's equation, free after the step
             system%known(si_t_2)%values = u0 - u1
             error = error + (h/3.0_dp)*(system%g1 - self%g0)
             call system%jac_g0%multiply_add(h/3.0_dp, system%known(si_t_2)%values, error)
+            if (.not. problem%autonomous) error = error - (h*h/3.0_dp)*self%g_t0
          end if
          call self%newton(si_t_2)%apply_inverse(error, self%counters, stat)
          ! the values at U1 start the next step
@@ -373,6 +400,7 @@ contains
          self%known_f0 = .true.
          self%known_g0 = .true.
          self%known_jacobians = .false.
+         self%known_time_derivatives = .false.
       end associate
    end subroutine semi_implicit_step_error
 

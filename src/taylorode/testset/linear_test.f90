@@ -43,6 +43,7 @@ contains
       self%lambda = lambda
       self%nu = nu
       self%name = "linear"
+      self%autonomous = .true.
       self%t_end = 1.0_dp
       self%u0 = [1.0_dp, 0.0_dp]
       exact = exp(lambda + nu)

@@ -65,6 +65,7 @@ contains
    pure function new_pollution() result(self)
       type(pollution_type) :: self
       self%name = "pollution"
+      self%autonomous = .true.
       self%t_end = 60.0_dp
       allocate (self%u0(20), source=0.0_dp)
       self%u0([2, 4, 7, 8, 9, 17]) = [0.2_dp, 0.04_dp, 0.1_dp, 0.3_dp, 0.01_dp, 0.007_dp]

@@ -14,6 +14,7 @@ module taylorode_testset_registry
    use taylorode_testset_prothero_robinson, only: new_prothero_robinson
    use taylorode_testset_pollution, only: new_pollution
    use taylorode_testset_medical_akzo, only: new_medical_akzo
+   use taylorode_testset_transistor_amplifier, only: new_transistor_amplifier
    implicit none
    private
 
@@ -22,7 +23,7 @@ module taylorode_testset_registry
    !> Names understood by new_test_problem
    character(len=*), parameter :: test_problem_names(*) = [character(len=17) :: &
       "vdp", "vdp-stiff", "robertson", "hires", "orego", "e5", "brusselator", "prothero-robinson", "linear", &
-      "pollution", "medakzo"]
+      "pollution", "medakzo", "transamp"]
    !> Number of problems the factory knows
    integer, parameter :: test_problem_count = size(test_problem_names)
 
@@ -63,6 +64,8 @@ contains
          allocate (problem, source=new_pollution())
       case ("medakzo")
          allocate (problem, source=new_medical_akzo())
+      case ("transamp")
+         allocate (problem, source=new_transistor_amplifier())
       case default
          valid = trim(test_problem_names(1))
          do i = 2, test_problem_count

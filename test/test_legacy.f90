@@ -1,0 +1,587 @@
+!> The legacy entry TAYLORODE as a RADAU5 user meets it: RADAU5's settings checked as
+!> RADAU5 checks them, TAYLORODE('radau5', ...) integrating as RADAU5 (its tolerances,
+!> norm and step-size rules), RADAU5's statistics, the evaluation flag in IPAR, mass
+!> matrices, the messages.
+module test_legacy
+   use testdrive, only: new_unittest, unittest_type, error_type, check
+   use test_support, only: stat_message
+   use taylorode_base_strings, only: format_real, format_integer
+   use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, &
+      integrator_options_type, integration_stats_type, norm_rms, status_ok
+   use taylorode_testset, only: new_transistor_amplifier, transistor_amplifier_type
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_message, legacy_no_mass
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+   implicit none
+   private
+
+   public :: collect_legacy
+
+   !> Van der Pol's mu, and the problem's span
+   real(dp), parameter :: mu = 1000.0_dp, vdp_end = 2.0_dp
+   !> Storage large enough for RADAU5 itself on 8 unknowns (4 N^2 + 12 N + 20, 3 N + 20)
+   integer, parameter :: lwork = 4*8*8 + 12*8 + 20, liwork = 3*8 + 20
+
+   !> The same Van der Pol as `vdp` below, as an ode_problem (F and J in one call each)
+   type, extends(ode_problem) :: vdp_type
+   contains
+      procedure :: f => vdp_zero
+      procedure :: g => vdp_rhs
+      procedure :: rhs => vdp_rhs
+      procedure :: jac_f => vdp_zero_jacobian
+      procedure :: jac_g => vdp_jac
+      procedure :: jac => vdp_jac
+   end type vdp_type
+
+   interface
+      !> The legacy entry's message routine (an external subroutine)
+      subroutine taylorode_message(iwork, text)
+         integer, intent(in) :: iwork(*)
+         character(len=*), intent(out) :: text
+      end subroutine taylorode_message
+   end interface
+
+contains
+
+   !> Collect all exported unit tests
+   subroutine collect_legacy(testsuite)
+      type(unittest_type), allocatable, intent(out) :: testsuite(:)
+      testsuite = [ &
+         new_unittest("settings-checked-as-radau5", test_settings_checked), &
+         new_unittest("settings-in-range-accepted", test_settings_accepted), &
+         new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
+         new_unittest("newton-iterations-honoured", test_newton_iterations), &
+         new_unittest("step-budget-statistics", test_budget), &
+         new_unittest("evaluation-flag", test_evaluation_flag), &
+         new_unittest("mass-transistor-amplifier", test_mass_transistor_amplifier), &
+         new_unittest("messages", test_messages) &
+         ]
+   end subroutine collect_legacy
+
+   !> Every setting RADAU5 checks, out of its range, is IDID = -1 with a reason in
+   !> IWORK(12) and a message, and the state untouched: IWORK(2) < 0 (it ran with the
+   !> default budget before), IWORK(3) < 0, IWORK(5:7) not adding up to N, index-2 or
+   !> second-order structure (not supported), WORK(1) outside (1e-19, 1), WORK(2)
+   !> outside (0.001, 1), WORK(3) >= 1, WORK(4) <= UROUND / RTOL, WORK(5) > 1, WORK(6) <
+   !> 1, WORK(8) > 1, WORK(9) < 1, RTOL <= 10 UROUND or ATOL = 0 (radau5), a NaN H or
+   !> WORK entry, a negative IWORK(11).
+   subroutine test_settings_checked(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: cases = 23
+      character(len=20) :: label
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(2), idid, k
+      character(len=:), allocatable :: message
+
+      do k = 1, cases
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         select case (k)
+         case (1); iwork(2) = -5; label = "IWORK(2) = -5"
+         case (2); iwork(3) = -1; label = "IWORK(3) = -1"
+         case (3); iwork(5) = 1; label = "IWORK(5) = 1"
+         case (4); iwork(5:6) = [1, 1]; label = "IWORK(6) = 1"
+         case (5); iwork(9) = -1; label = "IWORK(9) = -1"
+         case (6); iwork(9) = 1; label = "IWORK(9) = 1"
+         case (7); work(1) = 1.0e-20_dp; label = "WORK(1) = 1e-20"
+         case (8); work(1) = 1.0_dp; label = "WORK(1) = 1"
+         case (9); work(2) = 1.0e-4_dp; label = "WORK(2) = 1e-4"
+         case (10); work(2) = 1.0_dp; label = "WORK(2) = 1"
+         case (11); work(3) = 1.0_dp; label = "WORK(3) = 1"
+         case (12); work(4) = 1.0e-30_dp; label = "WORK(4) = 1e-30"
+         case (13); work(5) = 1.5_dp; label = "WORK(5) = 1.5"
+         case (14); work(6) = 0.5_dp; label = "WORK(6) = 0.5"
+         case (15); work(8) = 2.0_dp; label = "WORK(8) = 2"
+         case (16); work(9) = 0.5_dp; label = "WORK(9) = 0.5"
+         case (17); rtol = 1.0e-20_dp; label = "RTOL = 1e-20"
+         case (18); atol = 0.0_dp; label = "ATOL = 0"
+         case (19); h = ieee_value(1.0_dp, ieee_quiet_nan); label = "H = NaN"
+         case (20); iwork(11) = -1; label = "IWORK(11) = -1"
+         case (21); work(9) = -2.0_dp; label = "WORK(9) = -2"
+         case (22); iwork(6:7) = [0, 1]; iwork(5) = 1; label = "IWORK(7) = 1"
+         case (23); work(2) = ieee_value(1.0_dp, ieee_quiet_nan); label = "WORK(2) = NaN"
+         end select
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
+         call check(error, idid, -1, trim(label)//": IDID")
+         if (allocated(error)) return
+         call check(error, iwork(12) /= 0 .and. len(message) > 0 .and. x == 0.0_dp .and. y(1) == 2.0_dp, &
+            trim(label)//": reason "//format_integer(iwork(12))//", message """//message//"""")
+         if (allocated(error)) return
+      end do
+      ! for the other schemes the tolerances keep their meaning: ATOL = 0 is allowed, < 0 not
+      call fresh(x, y, h, rtol, atol, work, iwork)
+      atol = -1.0_dp
+      call solve_vdp("i-t-2", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
+      call check(error, idid == -1 .and. index(message, "ATOL(1)") > 0, "i-t-2, ATOL = -1: "//message)
+   end subroutine test_settings_checked
+
+   !> Settings within RADAU5's ranges are taken (IDID = 1): the boundary-side values of
+   !> each, a huge H (RADAU5 takes H as a guess and clamps it to XEND - X; it was refused
+   !> before), and H = 0, which starts with RADAU5's 1e-6 (SOLOUT sees the first step end
+   !> at 1e-6).
+   subroutine test_settings_accepted(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: cases = 15
+      character(len=20) :: label
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(2)
+      integer :: iwork(liwork), ipar(2), idid, k
+      character(len=:), allocatable :: message
+
+      do k = 1, cases
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         select case (k)
+         case (1); iwork(2) = 50000; label = "IWORK(2) = 50000"
+         case (2); iwork(3) = 4; label = "IWORK(3) = 4"
+         case (3); iwork(4) = 1; label = "IWORK(4) = 1"
+         case (4); iwork(8) = 2; label = "IWORK(8) = 2"
+         case (5); iwork(1) = 1; label = "IWORK(1) = 1"
+         case (6); work(2) = 0.5_dp; label = "WORK(2) = 0.5"
+         case (7); work(3) = -1.0_dp; label = "WORK(3) = -1"
+         case (8); work(4) = 0.1_dp; label = "WORK(4) = 0.1"
+         case (9); work(5:6) = [0.9_dp, 2.0_dp]; label = "WORK(5:6)"
+         case (10); work(7) = 0.1_dp; label = "WORK(7) = 0.1"
+         case (11); work(8:9) = [0.1_dp, 4.0_dp]; label = "WORK(8:9)"
+         case (12); work(1) = 1.0e-15_dp; label = "WORK(1) = 1e-15"
+         case (13); h = 1.0e300_dp; label = "H = 1e300"
+         case (14); h = -1.0e-3_dp; label = "H = -1e-3"
+         case (15); h = 0.0_dp; label = "H = 0"
+         end select
+         rpar = 0.0_dp
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message, output=.true.)
+         call check(error, idid, 1, trim(label)//": "//message)
+         if (allocated(error)) return
+         call check(error, x, vdp_end, trim(label)//": X")
+         if (allocated(error)) return
+         if (k == 15) then
+            call check(error, rpar(1), 1.0e-6_dp, "H = 0: the first step should be RADAU5's 1e-6")
+            if (allocated(error)) return
+         end if
+      end do
+   end subroutine test_settings_accepted
+
+   !> TAYLORODE('radau5', ...) is integrate() with RADAU5's settings: rtol' = 0.1
+   !> rtol^(2/3), atol' = atol rtol'/rtol, the RMS norm, h0 = H, step-size factors in
+   !> [0.2, 8], RADAU5's FNEWT, no limit on failed attempts; the same state to the last
+   !> bit, and IWORK(14:20) with RADAU5's meaning: IWORK(18) leaves out the rejections
+   !> before the first accepted step, IWORK(20) counts the solves of the Newton
+   !> iterations only. Van der Pol (mu = 1e3) at RTOL = ATOL = 1e-6, ITOL = 0 and 1.
+   !> Before, TAYLORODE took the tolerances as given (an integration at 1e-6 in the max
+   !> norm instead of RADAU5's 2.2e-5 in the RMS norm).
+   subroutine test_radau5_as_radau5(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(vdp_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: x, y(2), u(2), h, rtol(2), atol(2), work(lwork), rpar(1), transformed
+      integer :: iwork(liwork), ipar(1), idid, itol
+      character(len=:), allocatable :: message
+
+      transformed = 0.1_dp*(1.0e-6_dp)**(2.0_dp/3.0_dp)
+      options = integrator_options_type(rtol=transformed, atol=transformed, norm=norm_rms, h0=1.0e-6_dp, &
+         h_max=vdp_end, max_growth=8.0_dp, min_shrink=0.2_dp, max_steps=100000_i8, &
+         newton_fraction=max(10.0_dp*1.0e-16_dp/transformed, min(0.03_dp, sqrt(transformed))))
+      call new_scheme("radau5", scheme, stat)
+      u = [2.0_dp, -0.66_dp]
+      call integrate(problem, scheme, 0.0_dp, vdp_end, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      do itol = 0, 1
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         call solve_vdp("radau5", x, y, h, rtol, atol, itol, work, iwork, rpar, ipar, idid, message)
+         call check(error, idid, 1, "IDID")
+         if (allocated(error)) return
+         call check(error, all(y == u), "ITOL = "//format_integer(itol)//": TAYLORODE and integrate differ by "// &
+            format_real(maxval(abs(y - u))))
+         if (allocated(error)) return
+         call check(error, iwork(16) == stats%accepted_steps + stats%rejected_steps() .and. &
+            iwork(17) == stats%accepted_steps .and. iwork(18) == stats%rejected_error - stats%rejected_error_start &
+            .and. iwork(19) == stats%work%lu_factorizations .and. iwork(20) == stats%work%newton_iterations .and. &
+            iwork(14) == stats%work%f_evaluations .and. iwork(15) == stats%work%jac_f_evaluations, &
+            "IWORK(14:20) = "//format_integer(iwork(14))//" "//format_integer(iwork(15))//" "// &
+            format_integer(iwork(16))//" "//format_integer(iwork(17))//" "//format_integer(iwork(18))//" "// &
+            format_integer(iwork(19))//" "//format_integer(iwork(20)))
+         if (allocated(error)) return
+      end do
+   end subroutine test_radau5_as_radau5
+
+   !> IWORK(3) reaches radau5 (RADAU5's NIT): with 2 Newton iterations per attempt no
+   !> attempt makes more (IWORK(20) <= 2 IWORK(16)), with the default 7 some do (before:
+   !> radau5 took 7 whatever IWORK(3) said).
+   subroutine test_newton_iterations(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid, k
+      character(len=:), allocatable :: message
+
+      do k = 1, 2
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         iwork(3) = merge(0, 2, k == 1)
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
+         call check(error, idid, 1, "IDID")
+         if (allocated(error)) return
+         call check(error, iwork(20) > 2*iwork(16) .eqv. k == 1, "IWORK(3) = "//format_integer(iwork(3))// &
+            ": "//format_integer(iwork(20))//" Newton iterations in "//format_integer(iwork(16))//" attempts")
+         if (allocated(error)) return
+      end do
+   end subroutine test_newton_iterations
+
+   !> At the step budget: IDID = -2, X where it stopped, and IWORK(16) = NMAX + 1 as in
+   !> RADAU5 (which counts the attempt that finds the budget spent); the message says so.
+   subroutine test_budget(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid
+      character(len=200) :: text
+      character(len=:), allocatable :: message
+
+      call fresh(x, y, h, rtol, atol, work, iwork)
+      iwork(2) = 20
+      call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
+      call check(error, idid, -2, "IDID")
+      if (allocated(error)) return
+      call check(error, iwork(16), 21, "IWORK(16) at the budget")
+      if (allocated(error)) return
+      call check(error, x > 0.0_dp .and. x < vdp_end, "X where it stopped")
+      if (allocated(error)) return
+      call taylorode_message(iwork, text)
+      call check(error, index(text, "step budget") > 0, "message: "//trim(text))
+   end subroutine test_budget
+
+   !> IWORK(11) = K makes IPAR(K) the evaluation flag: FCN sets it > 0 where it cannot
+   !> evaluate (the step is retried shorter) or < 0 to stop. u' = -u on [0, 1], with
+   !> FCN refusing x > 0.5: once only (the retry succeeds: IDID = 1), always (IDID = -7,
+   !> X <= 0.5), fatally (IDID = -7 at the first refusal); without IWORK(11) the flag is
+   !> ignored (IDID = 1). Before, IDID = -7 could not be reached.
+   subroutine test_evaluation_flag(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
+      integer, parameter :: expected(4) = [1, -7, -7, 1]
+      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(2)
+      integer :: iwork(liwork), ipar(3), idid, mode, k
+      character(len=:), allocatable :: message
+
+      do k = 1, size(names)
+         do mode = 1, 4
+            work = 0.0_dp
+            iwork = 0
+            if (mode <= 3) iwork(11) = 2
+            x = 0.0_dp
+            y = 1.0_dp
+            h = 1.0e-3_dp
+            rtol = 1.0e-6_dp
+            atol = 1.0e-6_dp
+            ! ipar(1): how to refuse (1 once, 2 always, 3 fatally); ipar(3): refusals so far
+            ipar = [merge(2, mode, mode == 4), 0, 0]
+            call legacy_solve(trim(names(k)), 1, refusing_decay, refusing_decay, .false., x, y, 1.0_dp, h, rtol, &
+               atol, 0, decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, no_output, 0, work, &
+               lwork, iwork, liwork, rpar, ipar, idid, message)
+            call check(error, idid, expected(mode), trim(names(k))//", mode "//format_integer(mode)//": "//message)
+            if (allocated(error)) return
+            call check(error, ipar(3) > 0, trim(names(k))//": FCN should have refused")
+            if (allocated(error)) return
+            if (idid == -7) then
+               call check(error, x <= 0.5_dp .and. index(message, "IPAR(IWORK(11))") > 0, trim(names(k))// &
+                  ": stopped at X = "//format_real(x)//": "//message)
+               if (allocated(error)) return
+            else
+               call check(error, abs(y(1) - exp(-1.0_dp)) < 1.0e-4_dp, trim(names(k))//": y(1) = "//format_real(y(1)))
+               if (allocated(error)) return
+            end if
+         end do
+      end do
+   end subroutine test_evaluation_flag
+
+   !> The transistor amplifier (an index-1 DAE, M y' = F(t, y), singular M) through
+   !> TAYLORODE('radau5', ...) with IMAS = 1, from its published definition written as a
+   !> RADAU5 user writes it (the Bari test set's FCN, JAC and MAS, the exp overflow guard
+   !> through the evaluation flag): J and M banded (MLJAC = 2, MUJAC = 1, MLMAS = MUMAS =
+   !> 1), J dense with M dense (MLMAS = N), J dense with M banded. At RTOL = ATOL = 1e-6
+   !> (RADAU5's meaning: 1.0e-5 inside) every one is within 2 RTOL of the published
+   !> solution at t = 0.2 (measured: 0.23 banded, 0.63 dense, in 1317 to 1323 attempts;
+   !> RADAU5's transformation aims at an error of about RTOL). A mass matrix with another
+   !> scheme, or with bands beyond the Jacobian's, is IDID = -1.
+   subroutine test_mass_transistor_amplifier(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: layouts(4, 3) = reshape([2, 1, 1, 1, 8, 0, 8, 0, 8, 0, 1, 1], [4, 3])
+      type(transistor_amplifier_type) :: amplifier
+      real(dp) :: x, y(8), h, rtol(1), atol(1), work(lwork), rpar(1), err
+      integer :: iwork(liwork), ipar(1), idid, k
+      character(len=:), allocatable :: message
+
+      amplifier = new_transistor_amplifier()
+      do k = 1, 5
+         work = 0.0_dp
+         iwork = 0
+         iwork(11) = 1
+         x = 0.0_dp
+         y = amplifier%u0
+         h = 1.0e-6_dp
+         rtol = 1.0e-6_dp
+         atol = 1.0e-6_dp
+         if (k <= 3) then
+            call legacy_solve("radau5", 8, amplifier_fcn, amplifier_fcn, .false., x, y, 0.2_dp, h, rtol, atol, 0, &
+               amplifier_jac, 0, amplifier_jac, 1, layouts(1, k), layouts(2, k), amplifier_mas, 1, layouts(3, k), &
+               layouts(4, k), no_output, 0, work, lwork, iwork, liwork, rpar, ipar, idid, message)
+            call check(error, idid, 1, "layout "//format_integer(k)//": "//message)
+            if (allocated(error)) return
+            err = maxval(abs(y - amplifier%reference)/(atol(1) + rtol(1)*abs(amplifier%reference)))
+            call check(error, err <= 2.0_dp, "layout "//format_integer(k)//": "//format_real(err)// &
+               " tolerances off the reference")
+            if (allocated(error)) return
+         else
+            ! i-t-2 with a mass matrix; MUMAS = 2 beyond MUJAC = 1
+            call legacy_solve(trim(merge("i-t-2 ", "radau5", k == 4)), 8, amplifier_fcn, amplifier_fcn, .false., x, y, &
+               0.2_dp, h, rtol, atol, 0, amplifier_jac, 0, amplifier_jac, 1, 2, 1, amplifier_mas, 1, 1, &
+               merge(1, 2, k == 4), no_output, 0, work, lwork, iwork, liwork, rpar, ipar, idid, message)
+            call check(error, idid == -1 .and. index(message, "mass matrix") > 0, "case "//format_integer(k)// &
+               ": "//message)
+            if (allocated(error)) return
+         end if
+      end do
+   end subroutine test_mass_transistor_amplifier
+
+   !> Every reason code IWORK(12) can hold has a sentence; TAYLORODE_MESSAGE gives it
+   !> (blank after a success), and legacy_solve's message adds the library's own.
+   subroutine test_messages(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: reasons(*) = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, &
+         21, 22, 23, 24, 31, 32, 33, 34, 35, 36, 37]
+      integer :: k, iwork(20)
+      character(len=200) :: text
+      do k = 1, size(reasons)
+         call check(error, len(legacy_message(reasons(k), 1)) > 10 .and. &
+            legacy_message(reasons(k), 1) /= "unknown reason", "reason "//format_integer(reasons(k)))
+         if (allocated(error)) return
+      end do
+      iwork = 0
+      call taylorode_message(iwork, text)
+      call check(error, text == "", "blank after a success")
+   end subroutine test_messages
+
+   subroutine vdp_zero(self, t, u, dudt)
+      class(vdp_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine vdp_zero
+
+   subroutine vdp_rhs(self, t, u, dudt)
+      class(vdp_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt(1) = u(2)
+      dudt(2) = mu*((1.0_dp - u(1)**2)*u(2) - u(1))
+   end subroutine vdp_rhs
+
+   subroutine vdp_zero_jacobian(self, t, u, jac)
+      class(vdp_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine vdp_zero_jacobian
+
+   subroutine vdp_jac(self, t, u, jac)
+      class(vdp_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac(1, 1) = 0.0_dp
+      jac(1, 2) = 1.0_dp
+      jac(2, 1) = mu*(-2.0_dp*u(1)*u(2) - 1.0_dp)
+      jac(2, 2) = mu*(1.0_dp - u(1)**2)
+   end subroutine vdp_jac
+
+   !> A fresh call on Van der Pol: WORK(1:20) and IWORK(1:20) zero, X = 0, Y = (2, -0.66),
+   !> H = 1e-6, RTOL = ATOL = 1e-6
+   subroutine fresh(x, y, h, rtol, atol, work, iwork)
+      real(dp), intent(out) :: x, y(2), h, rtol(:), atol(:), work(:)
+      integer, intent(out) :: iwork(:)
+      work = 0.0_dp
+      iwork = 0
+      x = 0.0_dp
+      y = [2.0_dp, -0.66_dp]
+      h = 1.0e-6_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+   end subroutine fresh
+
+   !> TAYLORODE(scheme, ...) on Van der Pol over [0, vdp_end] with the analytic
+   !> Jacobian, dense, no mass matrix; SOLOUT = first_step when `output`, else none
+   subroutine solve_vdp(scheme_name, x, y, h, rtol, atol, itol, work, iwork, rpar, ipar, idid, message, output)
+      character(len=*), intent(in) :: scheme_name
+      real(dp), intent(inout) :: x, y(2), h, rtol(:), atol(:), work(:), rpar(:)
+      integer, intent(in) :: itol
+      integer, intent(inout) :: iwork(:), ipar(:)
+      integer, intent(out) :: idid
+      character(len=:), allocatable, intent(out) :: message
+      logical, intent(in), optional :: output
+      logical :: solout
+      solout = .false.
+      if (present(output)) solout = output
+      if (solout) then
+         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
+            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, first_step, 1, work, size(work), iwork, size(iwork), &
+            rpar, ipar, idid, message)
+      else
+         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
+            vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, size(work), iwork, size(iwork), &
+            rpar, ipar, idid, message)
+      end if
+   end subroutine solve_vdp
+
+   ! ----- the user's routines, as a RADAU5 user writes them -----
+
+   !> Van der Pol, mu = 1e3: y1' = y2, y2' = mu ((1 - y1^2) y2 - y1)
+   subroutine vdp(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f(1) = y(2)
+      f(2) = mu*((1.0_dp - y(1)**2)*y(2) - y(1))
+   end subroutine vdp
+
+   subroutine vdp_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1, 1) = 0.0_dp
+      dfy(1, 2) = 1.0_dp
+      dfy(2, 1) = mu*(-2.0_dp*y(1)*y(2) - 1.0_dp)
+      dfy(2, 2) = mu*(1.0_dp - y(1)**2)
+   end subroutine vdp_jacobian
+
+   !> u' = -u, refusing x > 0.5 as ipar(1) says (1 once, 2 always, 3 fatally) through
+   !> the flag ipar(2); ipar(3) counts the refusals
+   subroutine refusing_decay(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f = -y
+      if (x <= 0.5_dp) return
+      if (ipar(1) == 1 .and. ipar(3) > 0) return
+      ipar(3) = ipar(3) + 1
+      ipar(2) = merge(-1, 1, ipar(1) == 3)
+   end subroutine refusing_decay
+
+   subroutine decay_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1, 1) = -1.0_dp
+   end subroutine decay_jacobian
+
+   !> The transistor amplifier's F (Bari test set TRANSAMP); IPAR(1) = 1 where exp would overflow
+   subroutine amplifier_fcn(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      real(dp), parameter :: ub = 6.0_dp, uf = 0.026_dp, alpha = 0.99_dp, beta = 1.0e-6_dp, r0 = 1000.0_dp, &
+         r = 9000.0_dp
+      real(dp) :: uet, fac1, fac2
+      if ((y(2) - y(3))/uf > 300.0_dp .or. (y(5) - y(6))/uf > 300.0_dp) then
+         ipar(1) = 1
+         return
+      end if
+      uet = 0.1_dp*sin(200.0_dp*acos(-1.0_dp)*x)
+      fac1 = beta*(exp((y(2) - y(3))/uf) - 1.0_dp)
+      fac2 = beta*(exp((y(5) - y(6))/uf) - 1.0_dp)
+      f(1) = (y(1) - uet)/r0
+      f(2) = y(2)/r + (y(2) - ub)/r + (1.0_dp - alpha)*fac1
+      f(3) = y(3)/r - fac1
+      f(4) = (y(4) - ub)/r + alpha*fac1
+      f(5) = y(5)/r + (y(5) - ub)/r + (1.0_dp - alpha)*fac2
+      f(6) = y(6)/r - fac2
+      f(7) = (y(7) - ub)/r + alpha*fac2
+      f(8) = y(8)/r
+   end subroutine amplifier_fcn
+
+   !> Its Jacobian, dense (LDFY = N) or in RADAU5's band storage (LDFY = 4: MLJAC = 2, MUJAC = 1)
+   subroutine amplifier_jac(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      real(dp), parameter :: uf = 0.026_dp, alpha = 0.99_dp, beta = 1.0e-6_dp, r0 = 1000.0_dp, r = 9000.0_dp
+      real(dp) :: d1, d2
+      if ((y(2) - y(3))/uf > 300.0_dp .or. (y(5) - y(6))/uf > 300.0_dp) then
+         ipar(1) = 1
+         return
+      end if
+      d1 = beta*exp((y(2) - y(3))/uf)/uf
+      d2 = beta*exp((y(5) - y(6))/uf)/uf
+      dfy = 0.0_dp
+      call put(1, 1, 1.0_dp/r0)
+      call put(2, 2, 2.0_dp/r + (1.0_dp - alpha)*d1)
+      call put(2, 3, -(1.0_dp - alpha)*d1)
+      call put(3, 2, -d1)
+      call put(3, 3, 1.0_dp/r + d1)
+      call put(4, 2, alpha*d1)
+      call put(4, 3, -alpha*d1)
+      call put(4, 4, 1.0_dp/r)
+      call put(5, 5, 2.0_dp/r + (1.0_dp - alpha)*d2)
+      call put(5, 6, -(1.0_dp - alpha)*d2)
+      call put(6, 5, -d2)
+      call put(6, 6, 1.0_dp/r + d2)
+      call put(7, 5, alpha*d2)
+      call put(7, 6, -alpha*d2)
+      call put(7, 7, 1.0_dp/r)
+      call put(8, 8, 1.0_dp/r)
+   contains
+      subroutine put(i, j, value)
+         integer, intent(in) :: i, j
+         real(dp), intent(in) :: value
+         if (ldfy == n) then
+            dfy(i, j) = value
+         else
+            dfy(i - j + 2, j) = value
+         end if
+      end subroutine put
+   end subroutine amplifier_jac
+
+   !> Its mass matrix, dense (LMAS = N) or in RADAU5's band storage (LMAS = 3: MLMAS = MUMAS = 1)
+   subroutine amplifier_mas(n, am, lmas, rpar, ipar)
+      integer :: n, lmas
+      real(dp) :: am(lmas, n), rpar(*)
+      integer :: ipar(*)
+      real(dp) :: c(5)
+      c = [1.0e-6_dp, 2.0e-6_dp, 3.0e-6_dp, 4.0e-6_dp, 5.0e-6_dp]
+      am = 0.0_dp
+      call pair(1, c(1))
+      call put(3, 3, -c(2))
+      call pair(4, c(3))
+      call put(6, 6, -c(4))
+      call pair(7, c(5))
+   contains
+      subroutine pair(k, value)
+         integer, intent(in) :: k
+         real(dp), intent(in) :: value
+         call put(k, k, -value)
+         call put(k + 1, k + 1, -value)
+         call put(k, k + 1, value)
+         call put(k + 1, k, value)
+      end subroutine pair
+      subroutine put(i, j, value)
+         integer, intent(in) :: i, j
+         real(dp), intent(in) :: value
+         if (lmas == n) then
+            am(i, j) = value
+         else
+            am(i - j + 2, j) = value
+         end if
+      end subroutine put
+   end subroutine amplifier_mas
+
+   !> A SOLOUT that is never called (IOUT = 0)
+   subroutine no_output(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      irtrn = 0
+   end subroutine no_output
+
+   !> rpar(1) = where the first step ended (SOLOUT's second call)
+   subroutine first_step(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      irtrn = 0
+      if (nr == 2) rpar(1) = x
+   end subroutine first_step
+
+end module test_legacy
