@@ -17,7 +17,6 @@ module taylorode_linalg_complex_solver
       matrix_structure_type, storage_dense, storage_band
    use taylorode_linalg_lapack, only: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, &
       complex_band_lu_solve, small_lu_factor, small_lu_solve, small_lu_max_order
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
@@ -51,8 +50,6 @@ module taylorode_linalg_complex_solver
       procedure :: solve
       !> (re + i im) = (s I - J)^(-1) (re + i im), real and imaginary parts apart
       procedure :: solve_parts
-      !> Whether every entry of the matrix (of its factors, once factored) is finite
-      procedure :: finite
    end type complex_solver_type
 
 contains
@@ -203,8 +200,8 @@ contains
    subroutine factor(self, stat)
       !> The solver
       class(complex_solver_type), intent(inout) :: self
-      !> status_singular_matrix when a pivot is exactly zero (NaN or Inf in the factors is
-      !> left to `finite`: radau5 tests the real matrix it builds from the same Jacobian)
+      !> status_singular_matrix when a pivot is exactly zero (NaN or Inf from an overflow:
+      !> radau5 tests the real matrix it builds from the same Jacobian)
       type(status_type), intent(inout) :: stat
       integer :: info
       if (self%storage == storage_band) then
@@ -221,15 +218,6 @@ contains
          call set_status(stat, status_invalid_argument, "complex solver: LAPACK rejected the matrix")
       end if
    end subroutine factor
-
-   !> Whether every stored entry of the matrix, or of its factors, is finite (a pass over
-   !> the matrix, for a solve that came out NaN or Inf from finite data).
-   logical function finite(self)
-      !> The solver
-      class(complex_solver_type), intent(in) :: self
-      finite = .true.
-      if (allocated(self%a)) finite = all(ieee_is_finite(self%a%re) .and. ieee_is_finite(self%a%im))
-   end function finite
 
    !> Solve (s I - J) x = b with the factors; x holds b on entry.
    subroutine solve(self, x, stat)

@@ -10,6 +10,7 @@ module taylorode_linalg_matrix
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument
    use taylorode_base_memory, only: out_of_memory, real_bytes
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
    private
 
@@ -54,6 +55,8 @@ module taylorode_linalg_matrix
       procedure(block_interface), deferred :: add_block
       !> A = alpha B
       procedure, non_overridable :: set_scaled
+      !> Whether every entry of the matrix is finite (neither NaN nor Inf)
+      procedure, non_overridable :: all_finite
    end type matrix_type
 
    !> Dense storage
@@ -249,6 +252,32 @@ contains
       call self%set_zero()
       call self%add_scaled(alpha, b, stat)
    end subroutine set_scaled
+
+   !> Whether every entry of the matrix is finite: in band storage the entries of the
+   !> band only (the rows kept for the fill of a factorization are not the matrix's).
+   !> ieee_is_finite raises no floating-point exception, so that a NaN is found even
+   !> where comparisons with it would trap.
+   logical function all_finite(self)
+      !> The matrix
+      class(matrix_type), intent(in) :: self
+      integer :: i, j
+      all_finite = .false.
+      select type (self)
+      type is (dense_matrix_type)
+         do j = 1, self%n
+            do i = 1, self%n
+               if (.not. ieee_is_finite(self%a(i, j))) return
+            end do
+         end do
+      type is (band_matrix_type)
+         do j = 1, self%n
+            do i = max(1, j - self%ku), min(self%n, j + self%kl)
+               if (.not. ieee_is_finite(self%ab(self%diagonal + i - j, j))) return
+            end do
+         end do
+      end select
+      all_finite = .true.
+   end function all_finite
 
    subroutine mismatch(stat, operation)
       type(status_type), intent(inout) :: stat

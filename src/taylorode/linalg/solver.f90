@@ -41,8 +41,6 @@ module taylorode_linalg_solver
       procedure :: factor
       !> x = A^(-1) x with the factors
       procedure :: solve
-      !> Whether every entry of the matrix (of its factors, once factored) is finite
-      procedure :: finite
    end type linear_solver_type
 
 contains
@@ -109,10 +107,9 @@ contains
       end if
    end subroutine factor
 
-   !> Whether the diagonal of the factor U is finite. NaN or Inf in the matrix spreads
-   !> through the elimination onto it, except an entry that stays in L (its row of U
-   !> being zero beyond the diagonal, where the updates skip it): that one shows in a
-   !> solve, which `finite` then explains.
+   !> Whether the diagonal of the factor U is finite: the Jacobians are checked when
+   !> they are evaluated, so that NaN or Inf there comes from an overflow in the
+   !> elimination (a pivot of -Inf would make every increment 0).
    logical function finite_pivots(self)
       class(linear_solver_type), intent(in) :: self
       integer :: k
@@ -141,21 +138,6 @@ contains
       end do
       finite_diagonal = .true.
    end function finite_diagonal
-
-   !> Whether every stored entry of the matrix, or of its factors, is finite: a pass over
-   !> the matrix, for a solve that came out NaN or Inf from finite data (a Jacobian that
-   !> is NaN or Inf, not a diverging iteration).
-   logical function finite(self)
-      !> The solver
-      class(linear_solver_type), intent(in) :: self
-      finite = .true.
-      select type (a => self%matrix)
-      type is (dense_matrix_type)
-         finite = all(ieee_is_finite(a%a))
-      type is (band_matrix_type)
-         finite = all(ieee_is_finite(a%ab))
-      end select
-   end function finite
 
    !> Solve A x = b with the factors; x holds b on entry.
    subroutine solve(self, x, stat)

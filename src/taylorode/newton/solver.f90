@@ -282,7 +282,7 @@ contains
    !> A failure is reported by its code alone (no message is built, nothing is
    !> allocated): status_singular_matrix, status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
-   !> NaN or Inf, or the Newton matrix did: a Jacobian that is NaN or Inf) or
+   !> NaN or Inf, or a Jacobian did) or
    !> status_evaluation_failed (the problem rejected an evaluation).
    subroutine solve(self, system, problem, h, settings, u, counters, stat)
       !> The solver
@@ -364,13 +364,7 @@ contains
          do i = 1, m
             u(i) = u(i) + self%increment(i)
             if (.not. ieee_is_finite(u(i))) then
-               ! from a finite residual: NaN or Inf in the factors (a Jacobian that is NaN
-               ! or Inf, in L where U's diagonal did not show it), else divergence
-               if (self%kept(slot)%linear%finite()) then
-                  call set_code(stat, status_newton_diverged)
-               else
-                  call set_code(stat, status_nonfinite)
-               end if
+               call set_code(stat, status_newton_diverged)
                self%kept(slot)%linear%factored = .false.
                return
             end if

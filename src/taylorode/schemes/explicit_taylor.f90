@@ -106,8 +106,9 @@ contains
       u1 = u0 + h*self%rhs0
       if (self%order == 1 .and. .not. present(delta)) return
 
-      call evaluate_jac_f(problem, t, u0, self%jac_f0, self%counters)
-      call evaluate_jac_g(problem, t, u0, self%jac_g0, self%counters)
+      call evaluate_jac_f(problem, t, u0, self%jac_f0, self%counters, stat)
+      call evaluate_jac_g(problem, t, u0, self%jac_g0, self%counters, stat)
+      if (stat%code /= status_ok) return
       self%taylor2 = 0.0_dp
       call self%jac_f0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)
       call self%jac_g0%multiply_add(0.5_dp*h*h, self%rhs0, self%taylor2)

@@ -178,7 +178,8 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
       if (.not. (problem%linear_g .and. self%jac_g_constant)) then
-         call evaluate_jac_g(problem, self%t_stage, u, self%jac_g, counters)
+         call evaluate_jac_g(problem, self%t_stage, u, self%jac_g, counters, stat)
+         if (stat%code /= status_ok) return
          self%jac_g_constant = problem%linear_g
       end if
       call matrix%add_scaled(-self%h*imex_gamma, self%jac_g, stat)

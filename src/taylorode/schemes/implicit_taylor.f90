@@ -260,7 +260,8 @@ contains
 
       real(dp) :: epsilon_f, side, t_probe
 
-      call evaluate_jac(problem, self%t1, u, self%jac1, counters)
+      call evaluate_jac(problem, self%t1, u, self%jac1, counters, stat)
+      if (stat%code /= status_ok) return
       if (self%order /= 2) then
          call matrix%add_scaled(-self%h, self%jac1, stat)
       else
@@ -280,7 +281,8 @@ contains
                t_probe = self%t1 - epsilon_f
             end if
             self%probe = u + side*epsilon_f*self%rhs1
-            call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters)
+            call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters, stat)
+            if (stat%code /= status_ok) return
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
             call matrix%add_block(0.5_dp*self%h*self%h/(side*epsilon_f), self%jac_probe, 1, 1, stat)
          end if

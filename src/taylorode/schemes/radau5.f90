@@ -411,7 +411,11 @@ contains
       if (self%with_mass .and. .not. self%mass_loaded) call load_mass(self, problem)
       call begin_step()
       if (.not. self%jacobian_valid) then
-         call evaluate_jac(problem, t, u0, self%jac, self%counters)
+         call evaluate_jac(problem, t, u0, self%jac, self%counters, stat)
+         if (stat%code /= status_ok) then
+            u1 = u0
+            return
+         end if
          self%jacobian_valid = .true.
          self%jacobian_fresh = .true.
          self%factored = .false.
@@ -528,18 +532,6 @@ contains
       self%factored = .true.
       self%h_factored = h
    end subroutine factor_matrices
-
-   !> Whether the factors of both Newton matrices hold finite values only (a pass over
-   !> them, after a solve that came out NaN or Inf from finite F).
-   logical function finite_factors(self)
-      type(radau5_type), intent(in) :: self
-      if (self%small) then
-         finite_factors = all(ieee_is_finite(self%small_matrix))
-      else
-         finite_factors = self%real_solver%finite()
-      end if
-      finite_factors = finite_factors .and. self%complex_solver%finite()
-   end function finite_factors
 
    !> x = ((gamma/h) I - J)^(-1) x with the kept factors.
    subroutine solve_real(self, x, stat)
@@ -689,8 +681,7 @@ contains
          end do
          dyno = sqrt(dyno/real(3*n, dp))
          if (.not. (dyno <= huge(1.0_dp))) then
-            ! from finite F: NaN or Inf in the factors (a Jacobian that is NaN or Inf), else divergence
-            call fail(merge(status_newton_diverged, status_nonfinite, finite_factors(self)))
+            call fail(status_newton_diverged)
             return
          end if
          if (newt > 1 .and. newt < limit) then

@@ -564,8 +564,8 @@ contains
       counters%g_evaluations = counters%g_evaluations + 1
    end subroutine evaluate_rhs
 
-   !> Counted evaluation of df/dU, dense or in band storage.
-   subroutine evaluate_jac_f(problem, t, u, jac, counters)
+   !> Counted evaluation of df/dU, dense or in band storage, checked for NaN and Inf.
+   subroutine evaluate_jac_f(problem, t, u, jac, counters, stat)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Time
@@ -576,6 +576,8 @@ contains
       class(matrix_type), intent(inout) :: jac
       !> Work counters
       type(counters_type), intent(inout) :: counters
+      !> status_nonfinite when an entry is NaN or Inf
+      type(status_type), intent(inout) :: stat
       select type (jac)
       type is (dense_matrix_type)
          call problem%jac_f(t, u, jac%a)
@@ -583,11 +585,13 @@ contains
          call problem%jac_f_band(t, u, jac%ab(jac%fill + 1:, :))
       end select
       counters%jac_f_evaluations = counters%jac_f_evaluations + 1
+      if (.not. jac%all_finite()) call set_code(stat, status_nonfinite)
    end subroutine evaluate_jac_f
 
    !> Counted evaluation of J = df/dU + dg/dU in one call (the problem's `jac`, or
-   !> `jac_band`), dense or in band storage; it counts as one evaluation of each.
-   subroutine evaluate_jac(problem, t, u, jac, counters)
+   !> `jac_band`), dense or in band storage, checked for NaN and Inf; it counts as one
+   !> evaluation of each.
+   subroutine evaluate_jac(problem, t, u, jac, counters, stat)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Time
@@ -598,6 +602,8 @@ contains
       class(matrix_type), intent(inout) :: jac
       !> Work counters
       type(counters_type), intent(inout) :: counters
+      !> status_nonfinite when an entry is NaN or Inf
+      type(status_type), intent(inout) :: stat
       select type (jac)
       type is (dense_matrix_type)
          call problem%jac(t, u, jac%a)
@@ -606,10 +612,11 @@ contains
       end select
       counters%jac_f_evaluations = counters%jac_f_evaluations + 1
       counters%jac_g_evaluations = counters%jac_g_evaluations + 1
+      if (.not. jac%all_finite()) call set_code(stat, status_nonfinite)
    end subroutine evaluate_jac
 
-   !> Counted evaluation of dg/dU, dense or in band storage.
-   subroutine evaluate_jac_g(problem, t, u, jac, counters)
+   !> Counted evaluation of dg/dU, dense or in band storage, checked for NaN and Inf.
+   subroutine evaluate_jac_g(problem, t, u, jac, counters, stat)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Time
@@ -620,6 +627,8 @@ contains
       class(matrix_type), intent(inout) :: jac
       !> Work counters
       type(counters_type), intent(inout) :: counters
+      !> status_nonfinite when an entry is NaN or Inf
+      type(status_type), intent(inout) :: stat
       select type (jac)
       type is (dense_matrix_type)
          call problem%jac_g(t, u, jac%a)
@@ -627,6 +636,7 @@ contains
          call problem%jac_g_band(t, u, jac%ab(jac%fill + 1:, :))
       end select
       counters%jac_g_evaluations = counters%jac_g_evaluations + 1
+      if (.not. jac%all_finite()) call set_code(stat, status_nonfinite)
    end subroutine evaluate_jac_g
 
 end module taylorode_schemes_scheme

@@ -280,9 +280,11 @@ contains
             self%known_f0 = .true.
          end if
          if ((needed(si_t_2) .or. needed(si_t_2_paper)) .and. .not. self%known_jacobians) then
-            call evaluate_jac_f(problem, t, u0, system%jac_f0, self%counters)
+            call evaluate_jac_f(problem, t, u0, system%jac_f0, self%counters, stat)
+            if (stat%code /= status_ok) return
             if (.not. (problem%linear_g .and. system%jac_g0_constant)) then
-               call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters)
+               call evaluate_jac_g(problem, t, u0, system%jac_g0, self%counters, stat)
+               if (stat%code /= status_ok) return
                system%jac_g0_constant = problem%linear_g
             end if
             self%known_jacobians = .true.
@@ -481,12 +483,14 @@ contains
          else
             if (.not. allocated(self%jac_g1)) call new_matrix(self%jac_g1, size(u), self%jac_g0%structure(), stat)
             if (stat%code /= status_ok) return
-            call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+            call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters, stat)
+            if (stat%code /= status_ok) return
             call add_si_t_2_blocks(self%jac_g1)
          end if
       else
          if (.not. (problem%linear_g .and. self%jac_g1_constant)) then
-            call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters)
+            call evaluate_jac_g(problem, self%t1, u, self%jac_g1, counters, stat)
+            if (stat%code /= status_ok) return
             self%jac_g1_constant = problem%linear_g
          end if
          if (self%member == si_t_2_paper) then
