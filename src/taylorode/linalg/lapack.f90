@@ -467,6 +467,10 @@ contains
       real(dp) :: swap, bk
 
       n = size(lu, 1)
+      if (present(inverse_diagonal) .and. n <= 4) then
+         call tiny_lu_solve(lu, ipiv, b, inverse_diagonal)
+         return
+      end if
       do k = 1, n
          if (ipiv(k) /= k) then
             swap = b(k)
@@ -474,10 +478,6 @@ contains
             b(ipiv(k)) = swap
          end if
       end do
-      if (present(inverse_diagonal) .and. n <= 4) then
-         call tiny_lu_substitution(lu, b, inverse_diagonal)
-         return
-      end if
       do k = 1, n - 1
          bk = b(k)
          do i = k + 1, n
@@ -503,17 +503,31 @@ contains
       end if
    end subroutine small_lu_solve_real
 
-   !> The forward and back substitution of `small_lu_solve_real` (with 1/U(k, k), after
-   !> the row interchanges) for n <= 4, statement by statement: the same operations in
-   !> the same order, so the same numbers bit for bit.
-   pure subroutine tiny_lu_substitution(lu, b, inverse_diagonal)
+   !> `small_lu_solve_real` (with 1/U(k, k)) for n <= 4, statement by statement: the row
+   !> interchanges (one with itself changes nothing), then the forward and back
+   !> substitution; the same operations in the same order, so the same numbers bit for bit.
+   pure subroutine tiny_lu_solve(lu, ipiv, b, inverse_diagonal)
       !> LU factors, n x n with n <= 4
       real(dp), contiguous, intent(in) :: lu(:, :)
-      !> Right-hand side (rows interchanged) on entry, solution on exit
+      !> Pivot indices
+      integer, contiguous, intent(in) :: ipiv(:)
+      !> Right-hand side on entry, solution on exit
       real(dp), contiguous, intent(inout) :: b(:)
       !> 1/U(k, k)
       real(dp), contiguous, intent(in) :: inverse_diagonal(:)
       real(dp) :: b1, b2, b3, b4
+      select case (size(b))
+      case (2)
+         call interchange(b, 1)
+      case (3)
+         call interchange(b, 1)
+         call interchange(b, 2)
+      case (4)
+         call interchange(b, 1)
+         call interchange(b, 2)
+         call interchange(b, 3)
+      end select
+      ! (the last row has no other row left to interchange with: ipiv(n) = n)
       select case (size(b))
       case (1)
          b(1) = b(1)*inverse_diagonal(1)
@@ -559,7 +573,20 @@ contains
          b(3) = b3
          b(4) = b4
       end select
-   end subroutine tiny_lu_substitution
+
+   contains
+
+      !> Rows k and ipiv(k) of b interchanged
+      pure subroutine interchange(b, k)
+         real(dp), intent(inout) :: b(*)
+         integer, intent(in) :: k
+         real(dp) :: swap
+         swap = b(k)
+         b(k) = b(ipiv(k))
+         b(ipiv(k)) = swap
+      end subroutine interchange
+
+   end subroutine tiny_lu_solve
 
    !> Complex counterpart of `small_lu_factor_real` (pivot magnitude |Re| + |Im|,
    !> as LAPACK's izamax); the factors are those zgetrf stores.

@@ -41,6 +41,8 @@ module taylorode_linalg_solver
       procedure :: factor
       !> x = A^(-1) x with the factors
       procedure :: solve
+      !> x = the first half of A^(-1) [x; 0], A a stacked matrix
+      procedure :: solve_stacked
    end type linear_solver_type
 
 contains
@@ -170,5 +172,50 @@ contains
       end if
       if (info /= 0) call set_code(stat, status_invalid_argument)
    end subroutine solve
+
+   !> x = the first half of A^(-1) [x; 0] for a stacked matrix A of order 2 size(x), its
+   !> rows interleaved as `stacked_structure` orders them (x_i at row 2i - 1, 0 at row 2i).
+   !> Dense stacked matrices of up to `small_lu_max_order` rows take [x; 0] in a local
+   !> array and go straight to the written-out solve; the others go through `work`.
+   subroutine solve_stacked(self, x, work, stat)
+      !> The solver, factored
+      class(linear_solver_type), intent(in) :: self
+      !> The first half of the right-hand side on entry (the second is zero), of the
+      !> solution on exit
+      real(dp), contiguous, intent(inout) :: x(:)
+      !> Room for the whole right-hand side and solution (2 size(x) entries)
+      real(dp), contiguous, intent(inout) :: work(:)
+      !> status_invalid_argument (code only) when there are no factors or a size is wrong
+      type(status_type), intent(inout) :: stat
+      real(dp) :: b(small_lu_max_order)
+      integer :: i, m
+      m = size(x)
+      if (2*m <= small_lu_max_order .and. self%factored .and. self%matrix%n == 2*m) then
+         select type (a => self%matrix)
+         type is (dense_matrix_type)
+            do i = 1, m
+               b(2*i - 1) = x(i)
+               b(2*i) = 0.0_dp
+            end do
+            call small_lu_solve(a%a, self%pivots, b(:2*m), self%inverse_diagonal)
+            do i = 1, m
+               x(i) = b(2*i - 1)
+            end do
+            return
+         end select
+      end if
+      if (size(work) /= 2*m) then
+         call set_code(stat, status_invalid_argument)
+         return
+      end if
+      do i = 1, m
+         work(2*i - 1) = x(i)
+         work(2*i) = 0.0_dp
+      end do
+      call self%solve(work, stat)
+      do i = 1, m
+         x(i) = work(2*i - 1)
+      end do
+   end subroutine solve_stacked
 
 end module taylorode_linalg_solver

@@ -144,7 +144,7 @@ module taylorode_newton_solver
          !> Current iterate
          real(dp), intent(in) :: u(:)
          !> Residual at u
-         real(dp), intent(out) :: r(:)
+         real(dp), contiguous, intent(out) :: r(:)
          !> Evaluations are counted here
          type(counters_type), intent(inout) :: counters
       end subroutine residual_interface
@@ -255,19 +255,11 @@ contains
       real(dp), contiguous, intent(inout) :: x(:)
       !> status_invalid_argument when there are no factors
       type(status_type), intent(inout) :: stat
-      integer :: i
-      if (.not. self%stacked) then
+      if (self%stacked) then
+         call self%kept(slot)%linear%solve_stacked(x, self%stacked_vector, stat)
+      else
          call self%kept(slot)%linear%solve(x, stat)
-         return
       end if
-      do i = 1, self%m
-         self%stacked_vector(2*i - 1) = x(i)
-         self%stacked_vector(2*i) = 0.0_dp
-      end do
-      call self%kept(slot)%linear%solve(self%stacked_vector, stat)
-      do i = 1, self%m
-         x(i) = self%stacked_vector(2*i - 1)
-      end do
    end subroutine solve_linear
 
    !> Newton's method for system%residual(u) = 0 from the guess in u. The matrix is

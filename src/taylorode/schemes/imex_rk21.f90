@@ -163,7 +163,7 @@ contains
       class(imex_stage_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: r(:)
+      real(dp), contiguous, intent(out) :: r(:)
       type(counters_type), intent(inout) :: counters
       call evaluate_g(problem, self%t_stage, u, r, counters)
       r = u - self%known - (self%h*imex_gamma)*r

@@ -221,7 +221,7 @@ contains
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: r(:)
+      real(dp), contiguous, intent(out) :: r(:)
       type(counters_type), intent(inout) :: counters
       integer :: i
 

@@ -449,7 +449,7 @@ contains
       class(semi_implicit_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: u(:)
-      real(dp), intent(out) :: r(:)
+      real(dp), contiguous, intent(out) :: r(:)
       type(counters_type), intent(inout) :: counters
 
       real(dp) :: half_h2
