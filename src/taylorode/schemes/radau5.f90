@@ -78,7 +78,7 @@ module taylorode_schemes_radau5
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
-   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
+   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_solve_pair, small_lu_max_order
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
@@ -137,13 +137,17 @@ module taylorode_schemes_radau5
       class(matrix_type), allocatable :: jac
       !> (gamma/h) I - J and its factors (band, or dense above small_lu_max_order)
       type(linear_solver_type) :: real_solver
-      !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order
+      !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order, and
+      !> the reciprocals of its pivots
       real(dp), allocatable :: small_matrix(:, :), small_inverse_diagonal(:)
-      !> Row interchanges of the small dense factorization
-      integer, allocatable :: small_pivots(:)
+      !> ((alpha + i beta)/h) I - J and its factors for those systems, and the
+      !> reciprocals of its pivots
+      complex(dp), allocatable :: small_complex(:, :), small_complex_inverse_diagonal(:)
+      !> Row interchanges of the two small dense factorizations
+      integer, allocatable :: small_pivots(:), small_complex_pivots(:)
       !> Whether the small dense path is used
       logical :: small = .false.
-      !> ((alpha + i beta)/h) I - J and its factors
+      !> ((alpha + i beta)/h) I - J and its factors (band, or dense above small_lu_max_order)
       type(complex_solver_type) :: complex_solver
       !> The problem's constant mass matrix M (with `with_mass`), in the Jacobian's storage
       class(matrix_type), allocatable :: mass
@@ -335,14 +339,20 @@ contains
       resized = self%resize(problem, n, stat)
       if (stat%code /= status_ok) return
       if (resized) then
+         self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
          call new_matrix(self%jac, n, self%structure, stat)
-         if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
-         if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+         if (self%small) then
+            ! both factorizations are kept here
+            self%real_solver = linear_solver_type()
+            self%complex_solver = complex_solver_type()
+         else
+            if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
+            if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+         end if
          if (stat%code /= status_ok) then
             self%n = 0
             return
          end if
-         self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
          if (allocated(self%z)) then
             deallocate (self%z, self%w, self%r, self%polynomial, self%u_start, self%rhs0, &
                self%stage, self%estimate, self%stage_part)
@@ -351,8 +361,10 @@ contains
          allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%estimate(n), &
             self%stage_part(n))
          if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, &
-            self%small_inverse_diagonal)
-         if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
+            self%small_inverse_diagonal, self%small_complex, self%small_complex_pivots, &
+            self%small_complex_inverse_diagonal)
+         if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n), &
+            self%small_complex(n, n), self%small_complex_pivots(n), self%small_complex_inverse_diagonal(n))
          if (allocated(self%mass)) deallocate (self%mass)
          call self%restart()
       end if
@@ -466,48 +478,63 @@ contains
    end subroutine radau_advance
 
    !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J (M instead of I with a mass
-   !> matrix).
+   !> matrix); small dense systems form both from J in one pass and factor them here.
    subroutine factor_matrices(self, h, stat)
       type(radau5_type), intent(inout) :: self
       real(dp), intent(in) :: h
       type(status_type), intent(inout) :: stat
       integer :: info, i, j
+      real(dp) :: entry, fac1
+      complex(dp) :: shift
 
       self%factored = .false.
+      fac1 = real_eigenvalue/h
+      shift = cmplx(alpha/h, beta/h, dp)
       if (self%small) then
          select type (jac => self%jac)
          type is (dense_matrix_type)
             do j = 1, self%n
                do i = 1, self%n
-                  self%small_matrix(i, j) = -jac%a(i, j)
+                  entry = -jac%a(i, j)
+                  self%small_matrix(i, j) = entry
+                  self%small_complex(i, j) = cmplx(entry, 0.0_dp, dp)
                end do
-               if (.not. self%with_mass) self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
+               if (.not. self%with_mass) then
+                  self%small_matrix(j, j) = self%small_matrix(j, j) + fac1
+                  self%small_complex(j, j) = self%small_complex(j, j) + shift
+               end if
             end do
          end select
          if (self%with_mass) then
             select type (mass => self%mass)
             type is (dense_matrix_type)
-               self%small_matrix = self%small_matrix + (real_eigenvalue/h)*mass%a
+               self%small_matrix = self%small_matrix + fac1*mass%a
+               self%small_complex = self%small_complex + shift*mass%a
             end select
          end if
          call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
+         if (info /= 0) then
+            call set_code(stat, status_singular_matrix)
+            return
+         end if
+         call small_lu_factor(self%small_complex, self%small_complex_pivots, info, self%small_complex_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
       else
          call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
          if (self%with_mass) then
-            call self%real_solver%matrix%add_scaled(real_eigenvalue/h, self%mass, stat)
+            call self%real_solver%matrix%add_scaled(fac1, self%mass, stat)
          else
-            call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+            call self%real_solver%matrix%add_identity(fac1)
          end if
          if (stat%code == status_ok) call self%real_solver%factor(stat)
+         if (stat%code /= status_ok) return
+         if (self%with_mass) then
+            call self%complex_solver%assemble(shift, self%jac, stat, self%mass)
+         else
+            call self%complex_solver%assemble(shift, self%jac, stat)
+         end if
+         if (stat%code == status_ok) call self%complex_solver%factor(stat)
       end if
-      if (stat%code /= status_ok) return
-      if (self%with_mass) then
-         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat, self%mass)
-      else
-         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
-      end if
-      if (stat%code == status_ok) call self%complex_solver%factor(stat)
       self%counters%lu_factorizations = self%counters%lu_factorizations + 1
       if (stat%code /= status_ok) return
       self%factored = .true.
@@ -635,11 +662,13 @@ contains
             return
          end if
          if (self%small) then
-            call small_lu_solve(self%small_matrix, self%small_pivots, r(:, 1), self%small_inverse_diagonal)
+            call small_lu_solve_pair(self%small_matrix, self%small_pivots, self%small_inverse_diagonal, &
+               self%small_complex, self%small_complex_pivots, self%small_complex_inverse_diagonal, &
+               r(:, 1), r(:, 2), r(:, 3))
          else
             call self%real_solver%solve(r(:, 1), stat)
+            if (stat%code == status_ok) call self%complex_solver%solve_parts(r(:, 2), r(:, 3), stat)
          end if
-         if (stat%code == status_ok) call self%complex_solver%solve_parts(r(:, 2), r(:, 3), stat)
          if (stat%code /= status_ok) return
          newt = newt + 1
          self%counters%newton_iterations = self%counters%newton_iterations + 1
