@@ -61,9 +61,10 @@ contains
       rows = 0
       call say("bench: rtol = atol = tol (e5: atol 1.7e-24), RMS norm, library defaults otherwise; CPU per run "// &
          "(mean over repeats until "//format_fixed(request%min_time, 2)//" s); per step: evaluations of F = f + g, "// &
-         "Jacobians, LU factorizations, linear solves")
+         "Jacobians, products J v, LU factorizations, linear solves")
       call say(pad("problem", -10)//pad("scheme", -10)//pad("tol", 7)//"  "//pad("status", -8)//pad("steps", 11)// &
-         pad("rej", 10)//pad("F/step", 8)//pad("J/step", 8)//pad("LU/step", 8)//pad("sol/step", 9)// &
+         pad("rej", 10)//pad("F/step", 8)//pad("J/step", 8)//pad("Jv/step", 8)//pad("LU/step", 8)// &
+         pad("sol/step", 9)// &
          pad("CPU s", 10)//pad("us/step", 12)//pad("err_end", 10)//pad("err_grid", 10))
       do p = 1, size(request%problems)
          call make_bench_problem(trim(request%problems(p)), bench, stat)
@@ -236,6 +237,7 @@ contains
             pad(format_count(stats%accepted_steps), 11)//pad(format_count(stats%rejected_steps()), 10)// &
             pad(format_fixed(real(max(work%f_evaluations, work%g_evaluations), dp)/steps, 2), 8)// &
             pad(format_fixed(real(max(work%jac_f_evaluations, work%jac_g_evaluations), dp)/steps, 2), 8)// &
+            pad(format_fixed(real(work%jacobian_products, dp)/steps, 2), 8)// &
             pad(format_fixed(real(work%lu_factorizations, dp)/steps, 2), 8)// &
             pad(format_fixed(real(work%linear_solves, dp)/steps, 2), 9)// &
             pad(format_real(cpu/reps, 3), 10)//pad(format_fixed(1.0e6_dp*cpu/reps/steps, 3), 12)// &

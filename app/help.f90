@@ -89,9 +89,9 @@ contains
          text = "taylorode bench: work at equal accuracy beside the peer solvers (run with --profile release)"//nl// &
             "  The peer harness's problems, split, initial data, output times and error measure;"//nl// &
             "  rtol = atol = tol, RMS norm, the library's defaults otherwise (vdp-paper: the paper's"//nl// &
-            "  settings, tol ignored). Per run: steps, F (= f + g), Jacobian, LU and solve counts per"//nl// &
-            "  step, CPU seconds (mean of repeats until --min-time), microseconds per step, error"//nl// &
-            "  at t_end and on the output grid against the reference."//nl// &
+            "  settings, tol ignored). Per run: steps, F (= f + g), Jacobian, product J v, LU and"//nl// &
+            "  solve counts per step, CPU seconds (mean of repeats until --min-time), microseconds"//nl// &
+            "  per step, error at t_end and on the output grid against the reference."//nl// &
             "  --problems A,B,...  of "//join(bench_problem_names)//nl// &
             "                (default vdp-paper to bruss512; bs1000 ... bs100000: Brusselator N = 1e3..1e5, t <= 0.5)"//nl// &
             "  --schemes A,B,...   default si-t-2,i-t-2,radau5"//nl// &

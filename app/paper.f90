@@ -75,6 +75,7 @@ contains
       call say("evaluations: f "//format_count(stats%work%f_evaluations)//", g "// &
          format_count(stats%work%g_evaluations)//", Jacobians "// &
          format_count(stats%work%jac_f_evaluations)//" + "//format_count(stats%work%jac_g_evaluations)// &
+         ", products J v "//format_count(stats%work%jacobian_products)// &
          ", LU factorizations "//format_count(stats%work%lu_factorizations)//", linear solves "// &
          format_count(stats%work%linear_solves)//", Newton iterations "// &
          format_count(stats%work%newton_iterations))

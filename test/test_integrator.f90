@@ -5,7 +5,8 @@ module test_integrator
    use taylorode_base_strings, only: format_integer, format_real
    use test_support, only: rk4_reference, stat_message
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
-      vdp_ic_prepared, vdp_ic_unprepared, linear_test_type, new_linear_test, brusselator_type, new_brusselator
+      vdp_ic_prepared, vdp_ic_unprepared, linear_test_type, new_linear_test, brusselator_type, new_brusselator, &
+      orego_type, new_orego
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, scheme_names, scheme_count, &
       integrator_options_type, integration_stats_type, paper_options, controller_pi, controller_pid, &
       norm_rms, advance_low, step_history_type, write_history_csv, estimate_embedded, estimate_doubling, estimate_defect, &
@@ -36,6 +37,13 @@ module test_integrator
       procedure :: jac_f => singular_jac_f
       procedure :: jac_g => singular_jac_g
    end type singular_problem
+
+   !> OREGO whose J v is J from `jac` times v, column by column (what the default
+   !> add_jacobian_product does), in place of OREGO's own product
+   type, extends(orego_type) :: orego_matrix_product
+   contains
+      procedure :: add_jacobian_product => matrix_product
+   end type orego_matrix_product
 
    !> u' = -1e4 u^3 (all in g): the implicit stage equation of a long step, u + c u^3 =
    !> u0 with c ~ 1e4 h, makes Newton from u0 crawl (a simplified Newton iteration with
@@ -81,7 +89,8 @@ contains
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("library-defaults-on-paper-problem", test_library_defaults), &
-         new_unittest("extrapolated-step-stability", test_extrapolated_stability) &
+         new_unittest("extrapolated-step-stability", test_extrapolated_stability), &
+         new_unittest("i-t-2-jacobians-at-newton-matrices", test_it2_jacobians) &
          ]
    end subroutine collect_integrator
 
@@ -310,6 +319,64 @@ contains
       call check(error, abs(u(1) - u_plain(1)) < 1.0e-2_dp, "the Newton start changes the solution by "// &
          format_real(abs(u(1) - u_plain(1))))
    end subroutine test_library_defaults
+
+   !> i-t-2 takes J F in its residual from the problem's add_jacobian_product and
+   !> evaluates J only where it builds a Newton matrix (twice: J and, for F''[F], J at
+   !> U + e F): on OREGO at rtol 1e-6 that is 2 J per factorization, about 0.8 J per
+   !> step (7.5 when every residual evaluated J), and one product per Newton iteration.
+   !> OREGO's own product and J from `jac` times F give the same run bit for bit.
+   subroutine test_it2_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(orego_type) :: problem
+      type(orego_matrix_product) :: matrix_problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats, matrix_stats
+      type(status_type) :: stat
+      real(dp), allocatable :: u(:), u_matrix(:)
+
+      problem = new_orego()
+      matrix_problem%orego_type = new_orego()
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%work%jac_f_evaluations, 2*stats%work%lu_factorizations, &
+         "Jacobians against factorizations")
+      if (allocated(error)) return
+      call check(error, stats%work%jacobian_products, stats%work%newton_iterations, &
+         "products against Newton iterations")
+      if (allocated(error)) return
+      call check(error, stats%work%jac_f_evaluations < stats%accepted_steps, "Jacobians: "// &
+         format_integer(int(stats%work%jac_f_evaluations))//" in "//format_integer(int(stats%accepted_steps))//" steps")
+      if (allocated(error)) return
+      u_matrix = matrix_problem%u0
+      call integrate(matrix_problem, scheme, 0.0_dp, matrix_problem%t_end, u_matrix, options, matrix_stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, all(u_matrix == u) .and. matrix_stats%accepted_steps == stats%accepted_steps .and. &
+         matrix_stats%rejected_steps() == stats%rejected_steps() .and. &
+         matrix_stats%work%newton_iterations == stats%work%newton_iterations, &
+         "the run with J from jac times F differs from the run with OREGO's product")
+   end subroutine test_it2_jacobians
+
+   !> y + alpha J v with J from `jac`, column by column.
+   subroutine matrix_product(self, t, u, alpha, v, y)
+      class(orego_matrix_product), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(inout) :: y(:)
+      real(dp) :: jac(size(u), size(u))
+      integer :: j
+      call self%jac(t, u, jac)
+      do j = 1, size(u)
+         y = y + (alpha*v(j))*jac(:, j)
+      end do
+   end subroutine matrix_product
 
    !> One adaptive step with step doubling and local extrapolation multiplies the
    !> linear test equation's state by (2^p R(z/2, w/2)^2 - R(z, w)) / (2^p - 1), R

@@ -9,7 +9,8 @@ module test_problems
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
       linear_test_type, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, new_test_problem, &
       test_problem_names, test_problem_count, brusselator_type, new_brusselator, orego_type, new_orego, &
-      orego_split_bilinear_stiff, pollution_type, new_pollution, medical_akzo_type, new_medical_akzo
+      orego_split_bilinear_stiff, pollution_type, new_pollution, medical_akzo_type, new_medical_akzo, hires_type, &
+      new_hires, hires_split_reaction_stiff
    implicit none
    private
 
@@ -168,15 +169,19 @@ contains
    end subroutine test_test_set_jacobians
 
    !> F from `rhs` is f + g and J from `jac` is jac_f + jac_g (and `jac_band`, for a
-   !> banded problem, jac_f_band + jac_g_band) to the last bit, for every problem of the
-   !> test set (those that compute F or J in one call and those that keep the
-   !> defaults), both Van der Pol and OREGO splittings, and a user problem with f and g only;
-   !> at the initial state and at a perturbed one.
+   !> banded problem, jac_f_band + jac_g_band) to the last bit, and `add_jacobian_product`
+   !> is y + alpha J v with J from `jac` (`jac_band`) added column by column to the last
+   !> bit (i-t-2's residual takes J F from it: its steps do not depend on whether a
+   !> problem has a product of its own), for every problem of the test set (those that
+   !> compute F, J or J v in one call and those that keep the defaults), both Van der
+   !> Pol, OREGO and HIRES splittings, and a user problem with f and g only; at the
+   !> initial state and at a perturbed one.
    subroutine test_rhs_equals_parts(error)
       type(error_type), allocatable, intent(out) :: error
       class(test_problem_type), allocatable :: problem
       type(van_der_pol_type) :: stiff_split
       type(orego_type) :: bilinear
+      type(hires_type) :: reaction_stiff
       type(vdp_without_jacobians) :: user
       type(status_type) :: stat
       integer :: k
@@ -194,6 +199,9 @@ contains
       bilinear = new_orego(orego_split_bilinear_stiff)
       call compare_rhs(error, bilinear, bilinear%u0, "orego, bilinear terms stiff")
       if (allocated(error)) return
+      reaction_stiff = new_hires(hires_split_reaction_stiff)
+      call compare_rhs(error, reaction_stiff, reaction_stiff%u0, "hires, reaction stiff")
+      if (allocated(error)) return
       user%mu = 5.0_dp
       call compare_rhs(error, user, [2.0_dp, -0.5_dp], "a problem with the default rhs")
    end subroutine test_rhs_equals_parts
@@ -204,8 +212,8 @@ contains
       real(dp), intent(in) :: u0(:)
       character(len=*), intent(in) :: label
       real(dp), allocatable :: u(:), f(:), g(:), whole(:), jac(:, :), jac_f(:, :), jac_g(:, :), band(:, :), &
-         band_f(:, :), band_g(:, :)
-      integer :: which, i, lower, upper
+         band_f(:, :), band_g(:, :), v(:), product(:), expected(:)
+      integer :: which, i, j, lower, upper
       allocate (f(size(u0)), g(size(u0)), whole(size(u0)))
       allocate (jac(size(u0), size(u0)), jac_f(size(u0), size(u0)), jac_g(size(u0), size(u0)))
       call problem%bandwidths(size(u0), lower, upper)
@@ -231,6 +239,23 @@ contains
             call check(error, all(band == band_f + band_g), label//": jac_band differs from jac_f_band + jac_g_band")
             if (allocated(error)) return
          end if
+         ! y + alpha J v, J as the default product takes it (jac_band for a banded problem)
+         v = whole + [(0.1_dp*cos(0.7_dp*i), i=1, size(u))]
+         expected = u - 0.5_dp*whole
+         product = expected
+         do j = 1, size(u)
+            do i = 1, size(u)
+               if (lower >= 0) then
+                  if (i - j > lower .or. j - i > upper) cycle
+                  expected(i) = expected(i) + (0.37_dp*v(j))*band(upper + 1 + i - j, j)
+               else
+                  expected(i) = expected(i) + (0.37_dp*v(j))*jac(i, j)
+               end if
+            end do
+         end do
+         call problem%add_jacobian_product(0.3_dp, u, 0.37_dp, v, product)
+         call check(error, all(product == expected), label//": add_jacobian_product differs from y + alpha J v")
+         if (allocated(error)) return
       end do
    end subroutine compare_rhs
 

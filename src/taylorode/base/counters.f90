@@ -17,6 +17,8 @@ module taylorode_base_counters
       integer(i8) :: jac_f_evaluations = 0
       !> Evaluations of dg/dU
       integer(i8) :: jac_g_evaluations = 0
+      !> Products J v of the whole Jacobian with a vector (the problem's `jvp`)
+      integer(i8) :: jacobian_products = 0
       !> LU factorizations
       integer(i8) :: lu_factorizations = 0
       !> Linear solves with an LU factorization
@@ -46,6 +48,7 @@ contains
       total%g_evaluations = a%g_evaluations + b%g_evaluations
       total%jac_f_evaluations = a%jac_f_evaluations + b%jac_f_evaluations
       total%jac_g_evaluations = a%jac_g_evaluations + b%jac_g_evaluations
+      total%jacobian_products = a%jacobian_products + b%jacobian_products
       total%lu_factorizations = a%lu_factorizations + b%lu_factorizations
       total%linear_solves = a%linear_solves + b%linear_solves
       total%newton_iterations = a%newton_iterations + b%newton_iterations
@@ -60,6 +63,7 @@ contains
       difference%g_evaluations = a%g_evaluations - b%g_evaluations
       difference%jac_f_evaluations = a%jac_f_evaluations - b%jac_f_evaluations
       difference%jac_g_evaluations = a%jac_g_evaluations - b%jac_g_evaluations
+      difference%jacobian_products = a%jacobian_products - b%jacobian_products
       difference%lu_factorizations = a%lu_factorizations - b%lu_factorizations
       difference%linear_solves = a%linear_solves - b%linear_solves
       difference%newton_iterations = a%newton_iterations - b%newton_iterations

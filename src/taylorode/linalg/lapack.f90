@@ -18,7 +18,9 @@
 !> dense systems of stiff test problems (n of 2 to a few dozen), where the cost
 !> of a LAPACK call exceeds the arithmetic (dgetrs takes ~36 ns at n = 2, the
 !> elimination a few ns), and `small_lu_solve_pair`, which solves a real and a
-!> complex system (Radau IIA's two) with such factors in one pass.
+!> complex system (Radau IIA's two) with such factors in one pass. Up to order 4
+!> (the stacked Newton matrices of two unknowns) the real solve is written out
+!> statement by statement: the loops' set-up cost more than their arithmetic there.
 module taylorode_linalg_lapack
    use, intrinsic :: iso_c_binding, only: c_char, c_int
    use taylorode_base_kinds, only: dp
@@ -473,6 +475,10 @@ contains
             b(ipiv(k)) = swap
          end if
       end do
+      if (present(inverse_diagonal) .and. n <= 4) then
+         call tiny_lu_substitution(lu, b, inverse_diagonal)
+         return
+      end if
       do k = 1, n - 1
          bk = b(k)
          do i = k + 1, n
@@ -577,6 +583,64 @@ contains
          imi = imi - (br*li + bi*lr)
       end subroutine eliminate
    end subroutine small_lu_solve_pair
+
+   !> The forward and back substitution of `small_lu_solve_real` (with 1/U(k, k), after
+   !> the row interchanges) for n <= 4, statement by statement: the same operations in
+   !> the same order, so the same numbers bit for bit.
+   pure subroutine tiny_lu_substitution(lu, b, inverse_diagonal)
+      !> LU factors, n x n with n <= 4
+      real(dp), contiguous, intent(in) :: lu(:, :)
+      !> Right-hand side (rows interchanged) on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: b(:)
+      !> 1/U(k, k)
+      real(dp), contiguous, intent(in) :: inverse_diagonal(:)
+      real(dp) :: b1, b2, b3, b4
+      select case (size(b))
+      case (1)
+         b(1) = b(1)*inverse_diagonal(1)
+      case (2)
+         b1 = b(1)
+         b2 = b(2) - b1*lu(2, 1)
+         b2 = b2*inverse_diagonal(2)
+         b1 = b1 - b2*lu(1, 2)
+         b(1) = b1*inverse_diagonal(1)
+         b(2) = b2
+      case (3)
+         b1 = b(1)
+         b2 = b(2) - b1*lu(2, 1)
+         b3 = b(3) - b1*lu(3, 1)
+         b3 = b3 - b2*lu(3, 2)
+         b3 = b3*inverse_diagonal(3)
+         b1 = b1 - b3*lu(1, 3)
+         b2 = b2 - b3*lu(2, 3)
+         b2 = b2*inverse_diagonal(2)
+         b1 = b1 - b2*lu(1, 2)
+         b(1) = b1*inverse_diagonal(1)
+         b(2) = b2
+         b(3) = b3
+      case (4)
+         b1 = b(1)
+         b2 = b(2) - b1*lu(2, 1)
+         b3 = b(3) - b1*lu(3, 1)
+         b4 = b(4) - b1*lu(4, 1)
+         b3 = b3 - b2*lu(3, 2)
+         b4 = b4 - b2*lu(4, 2)
+         b4 = b4 - b3*lu(4, 3)
+         b4 = b4*inverse_diagonal(4)
+         b1 = b1 - b4*lu(1, 4)
+         b2 = b2 - b4*lu(2, 4)
+         b3 = b3 - b4*lu(3, 4)
+         b3 = b3*inverse_diagonal(3)
+         b1 = b1 - b3*lu(1, 3)
+         b2 = b2 - b3*lu(2, 3)
+         b2 = b2*inverse_diagonal(2)
+         b1 = b1 - b2*lu(1, 2)
+         b(1) = b1*inverse_diagonal(1)
+         b(2) = b2
+         b(3) = b3
+         b(4) = b4
+      end select
+   end subroutine tiny_lu_substitution
 
    !> Complex counterpart of `small_lu_factor_real` (pivot magnitude |Re| + |Im|,
    !> as LAPACK's izamax); the factors are those zgetrf stores.

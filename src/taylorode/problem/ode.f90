@@ -72,6 +72,9 @@ module taylorode_problem_ode
       real(dp), allocatable, private :: rhs_work(:)
       !> dg/dU for the default `jac` and `jac_band` (allocated at their first call)
       real(dp), allocatable, private :: jacobian_work(:, :)
+      !> J for the default `add_jacobian_product`, dense or in band storage (allocated at
+      !> its first call)
+      real(dp), allocatable, private :: product_work(:, :)
    contains
       !> Non-stiff part f(t, U)
       procedure(rhs_interface), deferred :: f
@@ -115,6 +118,12 @@ module taylorode_problem_ode
       procedure :: jvp_f
       !> J_g v, the Jacobian of g times a vector (default: a forward difference of g along v)
       procedure :: jvp_g
+      !> y = y + alpha J v with the whole Jacobian J = df/dU + dg/dU, for the schemes that
+      !> use J only in products (i-t-2's residual, at every Newton iteration); default: J
+      !> from `jac` (or `jac_band`), exact. Override it with a product that forms no
+      !> matrix (i-t-2 then evaluates J only for its Newton matrices); it must equal
+      !> y + alpha J v
+      procedure :: add_jacobian_product
       !> Combine values over every process that holds a part of the state (default: the
       !> whole state is here, nothing to combine)
       procedure :: reduce
@@ -346,6 +355,52 @@ contains
       call self%jac_g_band(t, u, self%jacobian_work)
       band = band + self%jacobian_work
    end subroutine full_band_jacobian
+
+   !> y = y + alpha J v, J = df/dU + dg/dU from `jac` (dense) or `jac_band` (banded
+   !> problems) in a work array the problem keeps (allocated at the first call, and again
+   !> only when the shape changes), added column by column: y_i + (alpha v_j) J_ij over
+   !> j in increasing order, as the matrices' multiply_add adds (an override that adds
+   !> the same terms in the same order returns the same numbers bit for bit).
+   subroutine add_jacobian_product(self, t, u, alpha, v, y)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> Factor of the product
+      real(dp), intent(in) :: alpha
+      !> Direction, size of u
+      real(dp), intent(in) :: v(:)
+      !> y on entry, y + alpha J v on exit
+      real(dp), intent(inout) :: y(:)
+      type(matrix_structure_type) :: structure
+      type(status_type) :: stat
+      integer :: n, i, j
+      real(dp) :: av
+
+      n = size(u)
+      call self%checked_structure(n, structure, stat)
+      if (structure%storage == storage_band) then
+         call sized(self%product_work, structure%lower + structure%upper + 1, n)
+         call self%jac_band(t, u, self%product_work)
+         do j = 1, n
+            av = alpha*v(j)
+            do i = max(1, j - structure%upper), min(n, j + structure%lower)
+               y(i) = y(i) + av*self%product_work(structure%upper + 1 + i - j, j)
+            end do
+         end do
+      else
+         call sized(self%product_work, n, n)
+         call self%jac(t, u, self%product_work)
+         do j = 1, n
+            av = alpha*v(j)
+            do i = 1, n
+               y(i) = y(i) + av*self%product_work(i, j)
+            end do
+         end do
+      end if
+   end subroutine add_jacobian_product
 
    !> The mass matrix M, m(i, j) = M(i, j) (n x n): called once per integration when
    !> `has_mass`; the default is the identity. A problem that declares `has_mass`

@@ -13,6 +13,10 @@
 !> rounding errors at the size of h |lambda| instead of (h |lambda|)^2 (see
 !> taylorode_newton_solver).
 !>
+!> The i-t-2 residual needs J(U) F(U) at every iterate: it adds it through the
+!> problem's `add_jacobian_product` (exact: a product of the problem's own, else J from
+!> `jac` times F), so that J itself is evaluated only where a Newton matrix is built.
+!>
 !> A problem that depends on t is advanced as the autonomous scheme advances (t, U)
 !> with t' = 1: i-t-2's residual has h^2/2 (J F + dF/dt)(t1, U), dF/dt by a backward
 !> difference in t (inside the step), and the derivative of J in its Newton matrix is
@@ -43,7 +47,7 @@ module taylorode_schemes_implicit_taylor
       real(dp), allocatable :: rhs1(:)
       !> dF/dt at the current iterate (i-t-2, a problem that depends on t)
       real(dp), allocatable :: rhs_t1(:)
-      !> J = J_f + J_g at the current iterate
+      !> J = J_f + J_g where the last Newton matrix was built
       class(matrix_type), allocatable :: jac1
       !> Whether the i-t-2 Newton matrix has the second-derivative term; J at U +
       !> epsilon F(U) and that point
@@ -206,8 +210,9 @@ contains
       call self%newton(2)%apply_inverse(error, self%counters, stat)
    end subroutine implicit_taylor_step_error
 
-   !> r(U) = U - U0 - h F(U) [+ h^2/2 (J(U) F(U) + dF/dt(U)) for order 2, dF/dt = 0 for
-   !> an autonomous problem]; keeps J(U) for the matrix.
+   !> r(U) = U - U0 - h F(U) [+ h^2/2 (J(U) F(U) + dF/dt(U)) for order 2, J F through the
+   !> problem's `add_jacobian_product`, dF/dt = 0 for an autonomous problem]; keeps F(U)
+   !> for the matrix.
    subroutine implicit_taylor_residual(self, problem, u, r, counters)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -216,8 +221,8 @@ contains
       type(counters_type), intent(inout) :: counters
       integer :: i
 
-      ! F in one call (not through a counting wrapper: on small systems each layer of
-      ! calls costs as much as the arithmetic)
+      ! F and J F in one call each (not through counting wrappers: on small systems each
+      ! layer of calls costs as much as the arithmetic)
       call problem%rhs(self%t1, u, self%rhs1)
       counters%f_evaluations = counters%f_evaluations + 1
       counters%g_evaluations = counters%g_evaluations + 1
@@ -225,8 +230,8 @@ contains
          r(i) = u(i) - self%u0(i) - self%h*self%rhs1(i)
       end do
       if (self%order == 2) then
-         call jacobian_at(self, problem, u, counters)
-         call self%jac1%multiply_add(0.5_dp*self%h*self%h, self%rhs1, r)
+         call problem%add_jacobian_product(self%t1, u, 0.5_dp*self%h*self%h, self%rhs1, r)
+         counters%jacobian_products = counters%jacobian_products + 1
          if (.not. problem%autonomous) then
             call evaluate_time_derivative(problem, of_rhs, self%t1, -self%h, u, self%rhs1, self%rhs_t1, self%probe, &
                counters)
@@ -238,7 +243,7 @@ contains
    end subroutine implicit_taylor_residual
 
    !> I - h J(U), or for order 2 the stacked [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]]
-   !> (J(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]);
+   !> (F(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]);
    !> F''[F] is the derivative of J along (1, F) in (t, U) (with dJ/dt when the problem
    !> depends on t, then by a backward difference, inside the step).
    subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
@@ -251,8 +256,8 @@ contains
 
       real(dp) :: epsilon_f, side, t_probe
 
+      call evaluate_jac(problem, self%t1, u, self%jac1, counters)
       if (self%order /= 2) then
-         call jacobian_at(self, problem, u, counters)
          call matrix%add_scaled(-self%h, self%jac1, stat)
       else
          call matrix%add_block(-self%h, self%jac1, 1, 1, stat)
@@ -278,14 +283,5 @@ contains
       end if
       call matrix%add_identity(1.0_dp)
    end subroutine implicit_taylor_matrix
-
-   !> jac1 = J_f(u) + J_g(u), in one call of the problem's `jac`
-   subroutine jacobian_at(self, problem, u, counters)
-      class(implicit_taylor_system_type), intent(inout) :: self
-      class(ode_problem), intent(inout) :: problem
-      real(dp), intent(in) :: u(:)
-      type(counters_type), intent(inout) :: counters
-      call evaluate_jac(problem, self%t1, u, self%jac1, counters)
-   end subroutine jacobian_at
 
 end module taylorode_schemes_implicit_taylor

@@ -33,6 +33,8 @@ module taylorode_testset_brusselator
       procedure :: jac_g_band => brusselator_jac_g_band
       !> df/dU + dg/dU in band storage in one pass
       procedure :: jac_band => brusselator_jac_band
+      !> y + alpha J v without forming J
+      procedure :: add_jacobian_product => brusselator_add_jacobian_product
    end type brusselator_type
 
 contains
@@ -187,5 +189,37 @@ contains
          band(3, 2*i) = band(3, 2*i) + (-u(2*i - 1)**2)
       end do
    end subroutine brusselator_jac_band
+
+   !> y + alpha J v with the entries of brusselator_jac_band, each row's terms added in the order of
+   !> the columns: the same numbers as J from brusselator_jac_band times v column by column (the
+   !> default), bit for bit.
+   subroutine brusselator_add_jacobian_product(self, t, u, alpha, v, y)
+      class(brusselator_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(inout) :: y(:)
+      real(dp) :: c, uv2, uu
+      integer :: i, k, n
+      n = size(u)
+      c = self%alpha*real(self%points + 1, dp)**2
+      do i = 1, self%points
+         uv2 = 2.0_dp*u(2*i - 1)*u(2*i)
+         uu = u(2*i - 1)**2
+         ! the row of u_i: u_(i-1), u_i, v_i, u_(i+1)
+         k = 2*i - 1
+         if (k > 2) y(k) = y(k) + (alpha*v(k - 2))*c
+         y(k) = y(k) + (alpha*v(k))*(-2.0_dp*c + (uv2 - 4.0_dp))
+         y(k) = y(k) + (alpha*v(k + 1))*uu
+         if (k <= n - 2) y(k) = y(k) + (alpha*v(k + 2))*c
+         ! the row of v_i: v_(i-1), u_i, v_i, v_(i+1)
+         k = 2*i
+         if (k > 2) y(k) = y(k) + (alpha*v(k - 2))*c
+         y(k) = y(k) + (alpha*v(k - 1))*(3.0_dp - uv2)
+         y(k) = y(k) + (alpha*v(k))*(-2.0_dp*c + (-uu))
+         if (k <= n - 2) y(k) = y(k) + (alpha*v(k + 2))*c
+      end do
+   end subroutine brusselator_add_jacobian_product
 
 end module taylorode_testset_brusselator

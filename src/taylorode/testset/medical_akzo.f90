@@ -58,6 +58,8 @@ module taylorode_testset_medical_akzo
       procedure :: jac_g_band => akzo_jac_g_band
       !> J = df/dU + dg/dU in band storage in one call
       procedure :: jac_band => akzo_jac_band
+      !> y + alpha J v without forming J
+      procedure :: add_jacobian_product => akzo_add_jacobian_product
    end type medical_akzo_type
 
 contains
@@ -265,6 +267,41 @@ contains
       call self%jac_g_band(t, u, band)
       call add_reaction_band(self, u, band)
    end subroutine akzo_jac_band
+
+   !> y + alpha J v with the entries of akzo_jac_band (the stencil, whose boundary value phi(t)
+   !> does not depend on U, and the reaction), each row's terms added in the order of the columns:
+   !> the same numbers as J from akzo_jac_band times v column by column (the default), bit for bit.
+   subroutine akzo_add_jacobian_product(self, t, u, alpha, v, y)
+      class(medical_akzo_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(inout) :: y(:)
+      real(dp) :: low, mid, high, ku_odd, ku_even
+      integer :: j, n, k
+      n = self%points
+      do j = 1, n
+         call stencil(self, j, low, mid, high)
+         ku_even = -self%k*u(2*j)
+         ku_odd = -self%k*u(2*j - 1)
+         ! the row of u_j: u_(j-1) (u_(n-1) twice at the far end), u_j, v_j, u_(j+1)
+         k = 2*j - 1
+         if (j > 1) then
+            if (j < n) then
+               y(k) = y(k) + (alpha*v(k - 2))*low
+            else
+               y(k) = y(k) + (alpha*v(k - 2))*(low + high)
+            end if
+         end if
+         y(k) = y(k) + (alpha*v(k))*(mid + ku_even)
+         y(k) = y(k) + (alpha*v(k + 1))*ku_odd
+         if (j < n) y(k) = y(k) + (alpha*v(k + 2))*high
+         ! the row of v_j: u_j, v_j
+         y(k + 1) = y(k + 1) + (alpha*v(k))*ku_even
+         y(k + 1) = y(k + 1) + (alpha*v(k + 1))*ku_odd
+      end do
+   end subroutine akzo_add_jacobian_product
 
    !> The test set's solution at t = 20 for N = 200 (medakzo.f, all 400 components;
    !> the v's below about 1e-100 are at the level of that computation's rounding).

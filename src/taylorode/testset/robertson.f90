@@ -26,6 +26,8 @@ module taylorode_testset_robertson
       procedure :: rhs => robertson_rhs
       !> J = df/dU + dg/dU in one call: dg/dU with the nonzeros of df/dU added
       procedure :: jac => robertson_jac
+      !> y + alpha J v without forming J
+      procedure :: add_jacobian_product => robertson_add_jacobian_product
    end type robertson_type
 
 contains
@@ -120,5 +122,29 @@ contains
       jac(1, 1) = jac(1, 1) - self%k1
       jac(2, 1) = jac(2, 1) + self%k1
    end subroutine robertson_jac
+
+   !> y + alpha J v with the entries of robertson_jac, each row's terms added in the order of the
+   !> columns: the same numbers as J from robertson_jac times v column by column (the default), bit
+   !> for bit.
+   subroutine robertson_add_jacobian_product(self, t, u, alpha, v, y)
+      class(robertson_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(inout) :: y(:)
+      real(dp) :: av(3), j12, j13, j32
+      av = alpha*v(1:3)
+      j12 = self%k3*u(3)
+      j13 = self%k3*u(2)
+      j32 = 2.0_dp*self%k2*u(2)
+      y(1) = y(1) + av(1)*(-self%k1)
+      y(1) = y(1) + av(2)*j12
+      y(1) = y(1) + av(3)*j13
+      y(2) = y(2) + av(1)*self%k1
+      y(2) = y(2) + av(2)*(-j12 - j32)
+      y(2) = y(2) + av(3)*(-j13)
+      y(3) = y(3) + av(2)*j32
+   end subroutine robertson_add_jacobian_product
 
 end module taylorode_testset_robertson

@@ -46,6 +46,8 @@ module taylorode_testset_van_der_pol
       procedure :: jac_g => vdp_jac_g
       !> J = df/dU + dg/dU in one pass (either splitting)
       procedure :: jac => vdp_jac
+      !> y + alpha J v without forming J (either splitting)
+      procedure :: add_jacobian_product => vdp_add_jacobian_product
    end type van_der_pol_type
 
 contains
@@ -157,5 +159,22 @@ contains
       jac(2, 1) = -2.0_dp*self%mu*u(1)*u(2) - 1.0_dp
       jac(2, 2) = self%mu*(1.0_dp - u(1)**2)
    end subroutine vdp_jac
+
+   !> y + alpha J v with the entries of vdp_jac, each row's terms added in the order of the columns:
+   !> the same numbers as J from vdp_jac times v column by column (the default), bit for bit.
+   subroutine vdp_add_jacobian_product(self, t, u, alpha, v, y)
+      class(van_der_pol_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(in) :: alpha
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(inout) :: y(:)
+      real(dp) :: av1, av2
+      av1 = alpha*v(1)
+      av2 = alpha*v(2)
+      y(1) = y(1) + av2
+      y(2) = y(2) + av1*(-2.0_dp*self%mu*u(1)*u(2) - 1.0_dp)
+      y(2) = y(2) + av2*(self%mu*(1.0_dp - u(1)**2))
+   end subroutine vdp_add_jacobian_product
 
 end module taylorode_testset_van_der_pol
