@@ -22,7 +22,8 @@ module taylorode_interfaces_c
    use taylorode_base_status, only: status_type, set_status, status_ok, status_invalid_argument, &
       status_size_mismatch, status_unknown_scheme
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
-   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
+   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences, difference_f, difference_g, &
+      difference_rhs, sized
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid
@@ -82,6 +83,8 @@ module taylorode_interfaces_c
       type(matrix_structure_type) :: structure
       !> Band Jacobian in contiguous storage for the callback
       real(dp), allocatable :: band_work(:, :)
+      !> dg/dU (dense or band) while J = df/dU + dg/dU is formed
+      real(dp), allocatable :: jac_work(:, :)
    contains
       procedure :: f => c_f
       procedure :: g => c_g
@@ -90,6 +93,8 @@ module taylorode_interfaces_c
       procedure :: jacobian_structure => c_structure
       procedure :: jac_f_band => c_jac_f_band
       procedure :: jac_g_band => c_jac_g_band
+      procedure :: jac => c_jac
+      procedure :: jac_band => c_jac_band
    end type c_problem_type
 
    !> What a handle points to
@@ -545,7 +550,7 @@ contains
       if (.not. c_associated(self%f_callback)) then
          jac = 0.0_dp
       else if (.not. call_jacobian(self, self%jac_f_callback, t, u, jac)) then
-         call dense_differences(self, .true., t, u, jac)
+         call dense_differences(self, difference_f, t, u, jac)
       end if
    end subroutine c_jac_f
 
@@ -556,7 +561,7 @@ contains
       if (.not. c_associated(self%g_callback)) then
          jac = 0.0_dp
       else if (.not. call_jacobian(self, self%jac_g_callback, t, u, jac)) then
-         call dense_differences(self, .false., t, u, jac)
+         call dense_differences(self, difference_g, t, u, jac)
       end if
    end subroutine c_jac_g
 
@@ -576,7 +581,7 @@ contains
       else if (call_jacobian(self, self%jac_f_callback, t, u, self%band_work)) then
          band = self%band_work
       else
-         call band_differences(self, .true., t, u, band)
+         call band_differences(self, difference_f, t, u, band)
       end if
    end subroutine c_jac_f_band
 
@@ -589,8 +594,47 @@ contains
       else if (call_jacobian(self, self%jac_g_callback, t, u, self%band_work)) then
          band = self%band_work
       else
-         call band_differences(self, .false., t, u, band)
+         call band_differences(self, difference_g, t, u, band)
       end if
    end subroutine c_jac_g_band
+
+   !> Whether J comes from differences of F = f + g: both parts given, neither Jacobian.
+   logical function differences_of_rhs(self)
+      type(c_problem_type), intent(in) :: self
+      differences_of_rhs = c_associated(self%f_callback) .and. c_associated(self%g_callback) .and. &
+         .not. (c_associated(self%jac_f_callback) .or. c_associated(self%jac_g_callback))
+   end function differences_of_rhs
+
+   !> Dense J: differences of f + g (one call of each per column) when neither Jacobian is
+   !> given, else jac_f + jac_g.
+   subroutine c_jac(self, t, u, jac)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (differences_of_rhs(self)) then
+         call dense_differences(self, difference_rhs, t, u, jac)
+      else
+         call self%jac_f(t, u, jac)
+         call sized(self%jac_work, size(jac, 1), size(jac, 2))
+         call self%jac_g(t, u, self%jac_work)
+         jac = jac + self%jac_work
+      end if
+   end subroutine c_jac
+
+   !> Band J: grouped differences of f + g when neither Jacobian is given, else
+   !> jac_f_band + jac_g_band.
+   subroutine c_jac_band(self, t, u, band)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      if (differences_of_rhs(self)) then
+         call band_differences(self, difference_rhs, t, u, band)
+      else
+         call self%jac_f_band(t, u, band)
+         call sized(self%jac_work, size(band, 1), size(band, 2))
+         call self%jac_g_band(t, u, self%jac_work)
+         band = band + self%jac_work
+      end if
+   end subroutine c_jac_band
 
 end module taylorode_interfaces_c

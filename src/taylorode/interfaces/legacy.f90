@@ -35,7 +35,8 @@ module taylorode_interfaces_legacy
       status_newton_not_converged, status_step_underflow, status_max_steps, status_nonfinite, &
       status_evaluation_failed
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
-   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
+   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences, difference_f, difference_g, &
+      difference_rhs
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_schemes_radau5, only: radau5_type
@@ -801,7 +802,7 @@ contains
       else if (self%has_jac_f) then
          call call_jac(self, self%jac_f_user, t, u, jac)
       else
-         call dense_differences(self, .true., t, u, jac)
+         call dense_differences(self, difference_f, t, u, jac)
       end if
    end subroutine legacy_jac_f
 
@@ -813,16 +814,19 @@ contains
       if (self%has_jac_g) then
          call call_jac(self, self%jac_g_user, t, u, jac)
       else
-         call dense_differences(self, .false., t, u, jac)
+         call dense_differences(self, difference_g, t, u, jac)
       end if
    end subroutine legacy_jac_g
 
-   !> Dense J: the user's JAC in one call straight into jac (TAYLORODE), else jac_f + jac_g.
+   !> Dense J: the user's JAC in one call straight into jac (TAYLORODE), else jac_f + jac_g;
+   !> without JACF and JACG, differences of FCNF + FCNG (one call of each per column).
    subroutine legacy_jac(self, t, u, jac)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: jac(:, :)
-      if (self%has_f) then
+      if (self%has_f .and. .not. (self%has_jac_f .or. self%has_jac_g)) then
+         call dense_differences(self, difference_rhs, t, u, jac)
+      else if (self%has_f) then
          call self%jac_f(t, u, jac)
          call self%jac_g(t, u, self%jac_work)
          jac = jac + self%jac_work
@@ -849,7 +853,7 @@ contains
       else if (self%has_jac_f) then
          call call_jac(self, self%jac_f_user, t, u, band)
       else
-         call band_differences(self, .true., t, u, band)
+         call band_differences(self, difference_f, t, u, band)
       end if
    end subroutine legacy_jac_f_band
 
@@ -861,16 +865,19 @@ contains
       if (self%has_jac_g) then
          call call_jac(self, self%jac_g_user, t, u, band)
       else
-         call band_differences(self, .false., t, u, band)
+         call band_differences(self, difference_g, t, u, band)
       end if
    end subroutine legacy_jac_g_band
 
-   !> Band J: the user's JAC in one call (TAYLORODE), else jac_f_band + jac_g_band.
+   !> Band J: the user's JAC in one call (TAYLORODE), else jac_f_band + jac_g_band;
+   !> without JACF and JACG, grouped differences of FCNF + FCNG.
    subroutine legacy_jac_band(self, t, u, band)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: band(:, :)
-      if (self%has_f) then
+      if (self%has_f .and. .not. (self%has_jac_f .or. self%has_jac_g)) then
+         call band_differences(self, difference_rhs, t, u, band)
+      else if (self%has_f) then
          call self%jac_f_band(t, u, band)
          call self%jac_g_band(t, u, self%jac_work)
          band = band + self%jac_work
