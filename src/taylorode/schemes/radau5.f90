@@ -156,14 +156,15 @@ module taylorode_schemes_radau5
       !> Whether the problem has a mass matrix, and whether M has been asked for since
       !> the restart
       logical :: with_mass = .false., mass_loaded = .false.
-      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and F at the stages, then
-      !> the Newton right-hand sides and increments of W
-      real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
+      !> Stage increments Z (n x 3) and transformed W = T^(-1) Z. Within a Newton
+      !> iteration z holds F at the stages, then the right-hand sides and increments of W
+      !> (Z = T W follows); after the last one w holds the error estimate (column 1) and
+      !> its stage part (column 2), as RADAU5 reuses Z and F
+      real(dp), allocatable :: z(:, :), w(:, :)
       !> Collocation polynomial of the last accepted step
       real(dp), allocatable :: polynomial(:, :)
-      !> State at the start of the step, F there, a stage state, the estimate and its
-      !> filtered right-hand side part
-      real(dp), allocatable :: u_start(:), rhs0(:), stage(:), estimate(:), stage_part(:)
+      !> State at the start of the step, F there, a stage state
+      real(dp), allocatable :: u_start(:), rhs0(:), stage(:)
       !> Start of the current step
       real(dp) :: t_start = 0.0_dp
       !> Step sizes of the polynomial and of the stages in z, and the one the
@@ -354,12 +355,10 @@ contains
             return
          end if
          if (allocated(self%z)) then
-            deallocate (self%z, self%w, self%r, self%polynomial, self%u_start, self%rhs0, &
-               self%stage, self%estimate, self%stage_part)
+            deallocate (self%z, self%w, self%polynomial, self%u_start, self%rhs0, self%stage)
          end if
-         allocate (self%z(n, 3), self%w(n, 3), self%r(n, 3), self%polynomial(n, 3))
-         allocate (self%u_start(n), self%rhs0(n), self%stage(n), self%estimate(n), &
-            self%stage_part(n))
+         allocate (self%z(n, 3), self%w(n, 3), self%polynomial(n, 3))
+         allocate (self%u_start(n), self%rhs0(n), self%stage(n))
          if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, &
             self%small_inverse_diagonal, self%small_complex, self%small_complex_pivots, &
             self%small_complex_inverse_diagonal)
@@ -438,7 +437,7 @@ contains
       self%have_stages = .true.
       if (present(delta)) then
          call estimate_error(self, problem, t, h, stat)
-         delta = self%estimate
+         delta = self%w(:, 1)
       end if
 
    contains
@@ -577,7 +576,9 @@ contains
       u0 => self%u_start
       z => self%z
       w => self%w
-      r => self%r
+      ! F at the stages, the right-hand sides and the increments go where Z was: Z is
+      ! T W again at the end of each iteration
+      r => self%z
       stage => self%stage
       ! W in the Newton right-hand sides, or M W with a mass matrix
       wm => self%w
@@ -626,7 +627,8 @@ contains
             call fail(status_newton_not_converged)
             return
          end if
-         ! F = f + g at the three stages (the problem's rhs, called directly)
+         ! F = f + g at the three stages (the problem's rhs, called directly), each into
+         ! its stage's column of z once the stage state is formed
          do s = 1, 3
             do i = 1, n
                stage(i) = u0(i) + z(i, s)
@@ -678,10 +680,13 @@ contains
          dyno = 0.0_dp
          do i = 1, n
             inverse = 1.0_dp/tolerance(i)
-            dyno = dyno + (r(i, 1)*inverse)**2 + (r(i, 2)*inverse)**2 + (r(i, 3)*inverse)**2
-            f1 = w(i, 1) + r(i, 1)
-            f2 = w(i, 2) + r(i, 2)
-            f3 = w(i, 3) + r(i, 3)
+            z1 = r(i, 1)
+            z2 = r(i, 2)
+            z3 = r(i, 3)
+            dyno = dyno + (z1*inverse)**2 + (z2*inverse)**2 + (z3*inverse)**2
+            f1 = w(i, 1) + z1
+            f2 = w(i, 2) + z2
+            f3 = w(i, 3) + z3
             w(i, 1) = f1
             w(i, 2) = f2
             w(i, 3) = f3
@@ -784,21 +789,25 @@ contains
       hee1 = dd1/h
       hee2 = dd2/h
       hee3 = dd3/h
-      if (self%with_mass) then
+      ! W is done with once the stages have converged: the estimate and its stage part
+      ! go into its first two columns
+      associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
+         if (self%with_mass) then
+            do i = 1, self%n
+               self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+               stage_part(i) = 0.0_dp
+            end do
+            call self%mass%multiply_add(1.0_dp, self%stage, stage_part)
+         else
+            do i = 1, self%n
+               stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+            end do
+         end if
          do i = 1, self%n
-            self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
-            self%stage_part(i) = 0.0_dp
+            estimate(i) = stage_part(i) + self%rhs0(i)
          end do
-         call self%mass%multiply_add(1.0_dp, self%stage, self%stage_part)
-      else
-         do i = 1, self%n
-            self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
-         end do
-      end if
-      do i = 1, self%n
-         self%estimate(i) = self%stage_part(i) + self%rhs0(i)
-      end do
-      call solve_real(self, self%estimate, stat)
+         call solve_real(self, estimate, stat)
+      end associate
       self%counters%linear_solves = self%counters%linear_solves + 1
    end subroutine estimate_error
 
@@ -821,15 +830,18 @@ contains
       do i = 1, self%n
          self%stage(i) = self%u_start(i) + delta(i)
       end do
-      call problem%rhs(t, self%stage, self%estimate)
-      self%counters%f_evaluations = self%counters%f_evaluations + 1
-      self%counters%g_evaluations = self%counters%g_evaluations + 1
-      do i = 1, self%n
-         self%estimate(i) = self%estimate(i) + self%stage_part(i)
-      end do
-      call solve_real(self, self%estimate, stat)
-      self%counters%linear_solves = self%counters%linear_solves + 1
-      delta = self%estimate
+      ! the stage part of the first estimate is still in w(:, 2)
+      associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
+         call problem%rhs(t, self%stage, estimate)
+         self%counters%f_evaluations = self%counters%f_evaluations + 1
+         self%counters%g_evaluations = self%counters%g_evaluations + 1
+         do i = 1, self%n
+            estimate(i) = estimate(i) + stage_part(i)
+         end do
+         call solve_real(self, estimate, stat)
+         self%counters%linear_solves = self%counters%linear_solves + 1
+         delta = estimate
+      end associate
    end subroutine radau_refine_estimate
 
 end module taylorode_schemes_radau5
