@@ -95,6 +95,8 @@ module taylorode_interfaces_c
       procedure :: jac_g_band => c_jac_g_band
       procedure :: jac => c_jac
       procedure :: jac_band => c_jac_band
+      procedure :: jac_with_rhs => c_jac_with_rhs
+      procedure :: jac_band_with_rhs => c_jac_band_with_rhs
    end type c_problem_type
 
    !> What a handle points to
@@ -636,5 +638,29 @@ contains
          band = band + self%jac_work
       end if
    end subroutine c_jac_band
+
+   !> Dense J given F(t, u): differences from that F when neither Jacobian is given.
+   subroutine c_jac_with_rhs(self, t, u, value, jac)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (differences_of_rhs(self)) then
+         call dense_differences(self, difference_rhs, t, u, jac, value)
+      else
+         call self%jac(t, u, jac)
+      end if
+   end subroutine c_jac_with_rhs
+
+   !> Band J given F(t, u) (see c_jac_with_rhs).
+   subroutine c_jac_band_with_rhs(self, t, u, value, band)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: band(:, :)
+      if (differences_of_rhs(self)) then
+         call band_differences(self, difference_rhs, t, u, band, value)
+      else
+         call self%jac_band(t, u, band)
+      end if
+   end subroutine c_jac_band_with_rhs
 
 end module taylorode_interfaces_c

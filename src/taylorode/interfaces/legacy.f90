@@ -161,6 +161,8 @@ module taylorode_interfaces_legacy
       procedure :: jac_f_band => legacy_jac_f_band
       procedure :: jac_g_band => legacy_jac_g_band
       procedure :: jac_band => legacy_jac_band
+      procedure :: jac_with_rhs => legacy_jac_with_rhs
+      procedure :: jac_band_with_rhs => legacy_jac_band_with_rhs
       procedure :: mass_matrix => legacy_mass
       procedure :: mass_matrix_band => legacy_mass_band
    end type legacy_problem_type
@@ -885,6 +887,40 @@ contains
          call self%jac_g_band(t, u, band)
       end if
    end subroutine legacy_jac_band
+
+   !> Which part J is differenced from when neither JAC(G) nor JACF is given: FCNF + FCNG,
+   !> or FCN alone (TAYLORODE); 0 when a Jacobian routine is given.
+   pure integer function differenced_part(self)
+      class(legacy_problem_type), intent(in) :: self
+      differenced_part = 0
+      if (self%has_jac_f .or. self%has_jac_g) return
+      differenced_part = merge(difference_rhs, difference_g, self%has_f)
+   end function differenced_part
+
+   !> Dense J given F(t, u): without Jacobian routines, differences from that F (N
+   !> evaluations, as RADAU5's from F(X, Y)); else legacy_jac.
+   subroutine legacy_jac_with_rhs(self, t, u, value, jac)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (differenced_part(self) /= 0) then
+         call dense_differences(self, differenced_part(self), t, u, jac, value)
+      else
+         call self%jac(t, u, jac)
+      end if
+   end subroutine legacy_jac_with_rhs
+
+   !> Band J given F(t, u) (see legacy_jac_with_rhs).
+   subroutine legacy_jac_band_with_rhs(self, t, u, value, band)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: band(:, :)
+      if (differenced_part(self) /= 0) then
+         call band_differences(self, differenced_part(self), t, u, band, value)
+      else
+         call self%jac_band(t, u, band)
+      end if
+   end subroutine legacy_jac_band_with_rhs
 
    !> M, dense: the user's MAS (dense, or its band expanded).
    subroutine legacy_mass(self, m)

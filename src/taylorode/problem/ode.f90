@@ -128,6 +128,12 @@ module taylorode_problem_ode
       !> added, or grouped differences of F when both are the default differences); the
       !> same contract as `jac`
       procedure :: jac_band => full_band_jacobian
+      !> J at (t, u) where the caller already has F(t, u) (radau5, at the start of its
+      !> step): `jac`, or, when J is differenced from F, the differences from that F (n
+      !> evaluations of F instead of n + 1). The same contract as `jac`
+      procedure :: jac_with_rhs => full_jacobian_with_rhs
+      !> `jac_band` where the caller already has F(t, u) (see `jac_with_rhs`)
+      procedure :: jac_band_with_rhs => full_band_jacobian_with_rhs
       !> The constant mass matrix M, dense (asked for when `has_mass` and the Jacobian
       !> structure is dense; default: the identity)
       procedure :: mass_matrix
@@ -442,6 +448,46 @@ contains
       band = band + self%jacobian_work
    end subroutine full_band_jacobian
 
+   !> J at (t, u) given F(t, u): differences of F from it once `jac` has found that both
+   !> part Jacobians are the default differences (at its first call, made here when
+   !> needed), else `jac`.
+   subroutine full_jacobian_with_rhs(self, t, u, value, jac)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> F(t, u)
+      real(dp), intent(in) :: value(:)
+      !> J(t, u), size(u) x size(u)
+      real(dp), intent(out) :: jac(:, :)
+      if (self%dense_parts == parts_differenced) then
+         call dense_differences(self, difference_rhs, t, u, jac, value)
+      else
+         call self%jac(t, u, jac)
+      end if
+   end subroutine full_jacobian_with_rhs
+
+   !> J at (t, u) in band storage given F(t, u) (see full_jacobian_with_rhs).
+   subroutine full_band_jacobian_with_rhs(self, t, u, value, band)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> F(t, u)
+      real(dp), intent(in) :: value(:)
+      !> Band storage, (lower + upper + 1) x size(u)
+      real(dp), intent(out) :: band(:, :)
+      if (self%band_parts == parts_differenced) then
+         call band_differences(self, difference_rhs, t, u, band, value)
+      else
+         call self%jac_band(t, u, band)
+      end if
+   end subroutine full_band_jacobian_with_rhs
+
    !> y = y + alpha J v, J = df/dU + dg/dU from `jac` (dense) or `jac_band` (banded
    !> problems) in a work array the problem keeps (allocated at the first call, and again
    !> only when the shape changes), added column by column: y_i + (alpha v_j) J_ij over
@@ -607,7 +653,7 @@ contains
    !> columns j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The
    !> band is read from the storage it is given: size(band, 1) = lower + upper + 1 with
    !> upper from the checked structure.
-   subroutine band_differences(self, part, t, u, band)
+   subroutine band_differences(self, part, t, u, band, value)
       !> The problem
       class(ode_problem), intent(inout) :: self
       !> difference_f, difference_g or difference_rhs
@@ -618,6 +664,8 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
+      !> The part at (t, u) when the caller has it (one evaluation fewer)
+      real(dp), intent(in), optional :: value(:)
       type(matrix_structure_type) :: structure
       type(status_type) :: stat
       integer :: lower, upper, width, group, i, j, n
@@ -631,7 +679,11 @@ contains
       associate (base => self%differences%base, shifted => self%differences%shifted, &
          probe => self%differences%probe, increment => self%differences%increment)
          band = 0.0_dp
-         call evaluate_part(self, part, t, u, base)
+         if (present(value)) then
+            base = value
+         else
+            call evaluate_part(self, part, t, u, base)
+         end if
          do group = 1, min(width, n)
             probe = u
             do j = group, n, width
@@ -677,7 +729,7 @@ contains
 
    !> Column-by-column forward differences of f, g or F = f + g (`part`), with the
    !> increment sqrt(eps) * max(|u_j|, 1) that balances truncation and roundoff.
-   subroutine dense_differences(self, part, t, u, jac)
+   subroutine dense_differences(self, part, t, u, jac, value)
       !> The problem
       class(ode_problem), intent(inout) :: self
       !> difference_f, difference_g or difference_rhs
@@ -688,12 +740,18 @@ contains
       real(dp), intent(in) :: u(:)
       !> Jacobian, size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
+      !> The part at (t, u) when the caller has it (one evaluation fewer)
+      real(dp), intent(in), optional :: value(:)
       real(dp) :: increment
       integer :: j
       call prepare_workspace(self%differences, size(u))
       associate (base => self%differences%base, shifted => self%differences%shifted, &
          probe => self%differences%probe)
-         call evaluate_part(self, part, t, u, base)
+         if (present(value)) then
+            base = value
+         else
+            call evaluate_part(self, part, t, u, base)
+         end if
          probe = u
          do j = 1, size(u)
             increment = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)

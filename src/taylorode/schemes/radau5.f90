@@ -410,7 +410,14 @@ contains
       if (self%with_mass .and. .not. self%mass_loaded) call load_mass(self, problem)
       call begin_step()
       if (.not. self%jacobian_valid) then
-         call evaluate_jac(problem, t, u0, self%jac, self%counters)
+         ! F(t, u0), which the error estimate needs, first: a difference Jacobian starts from
+         ! it (as RADAU5's does from F(X, Y))
+         if (present(delta)) call evaluate_rhs0(self, problem, t)
+         if (self%rhs0_valid) then
+            call evaluate_jac(problem, t, u0, self%jac, self%counters, self%rhs0)
+         else
+            call evaluate_jac(problem, t, u0, self%jac, self%counters)
+         end if
          self%jacobian_valid = .true.
          self%jacobian_fresh = .true.
          self%factored = .false.
@@ -780,12 +787,7 @@ contains
       integer :: i
       real(dp) :: hee1, hee2, hee3
 
-      if (.not. self%rhs0_valid) then
-         call problem%rhs(t, self%u_start, self%rhs0)
-         self%counters%f_evaluations = self%counters%f_evaluations + 1
-         self%counters%g_evaluations = self%counters%g_evaluations + 1
-         self%rhs0_valid = .true.
-      end if
+      call evaluate_rhs0(self, problem, t)
       hee1 = dd1/h
       hee2 = dd2/h
       hee3 = dd3/h
@@ -810,6 +812,19 @@ contains
       end associate
       self%counters%linear_solves = self%counters%linear_solves + 1
    end subroutine estimate_error
+
+   !> F(t, U0) at the start of the step into rhs0, unless it is there already (kept
+   !> only when the problem accepted the evaluation).
+   subroutine evaluate_rhs0(self, problem, t)
+      type(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t
+      if (self%rhs0_valid) return
+      call problem%rhs(t, self%u_start, self%rhs0)
+      self%counters%f_evaluations = self%counters%f_evaluations + 1
+      self%counters%g_evaluations = self%counters%g_evaluations + 1
+      self%rhs0_valid = .not. problem%evaluation_rejected()
+   end subroutine evaluate_rhs0
 
    !> RADAU5's second estimate when the first fails the error test at the first step or
    !> on a retry: delta = ((gamma/h) I - J)^(-1) [F(t0, U0 + delta) + (d1 Z1 + d2 Z2 +

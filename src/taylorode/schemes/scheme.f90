@@ -583,8 +583,9 @@ contains
    end subroutine evaluate_jac_f
 
    !> Counted evaluation of J = df/dU + dg/dU in one call (the problem's `jac`, or
-   !> `jac_band`), dense or in band storage; it counts as one evaluation of each.
-   subroutine evaluate_jac(problem, t, u, jac, counters)
+   !> `jac_band`; `jac_with_rhs`, `jac_band_with_rhs` when F(t, u) is given), dense or in
+   !> band storage; it counts as one evaluation of each.
+   subroutine evaluate_jac(problem, t, u, jac, counters, rhs_value)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Time
@@ -595,11 +596,21 @@ contains
       class(matrix_type), intent(inout) :: jac
       !> Work counters
       type(counters_type), intent(inout) :: counters
+      !> F(t, u), when the caller has it (a difference Jacobian then starts from it)
+      real(dp), intent(in), optional :: rhs_value(:)
       select type (jac)
       type is (dense_matrix_type)
-         call problem%jac(t, u, jac%a)
+         if (present(rhs_value)) then
+            call problem%jac_with_rhs(t, u, rhs_value, jac%a)
+         else
+            call problem%jac(t, u, jac%a)
+         end if
       type is (band_matrix_type)
-         call problem%jac_band(t, u, jac%ab(jac%fill + 1:, :))
+         if (present(rhs_value)) then
+            call problem%jac_band_with_rhs(t, u, rhs_value, jac%ab(jac%fill + 1:, :))
+         else
+            call problem%jac_band(t, u, jac%ab(jac%fill + 1:, :))
+         end if
       end select
       counters%jac_f_evaluations = counters%jac_f_evaluations + 1
       counters%jac_g_evaluations = counters%jac_g_evaluations + 1
