@@ -5,7 +5,8 @@ module test_base
    use taylorode, only: dp, i8
    use taylorode_base_strings, only: format_count, format_real, format_fixed, format_integer
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, small_lu_factor, &
-      small_lu_solve, narrow_band_lu_factor, narrow_band_lu_solve
+      small_lu_solve, small_lu_solve_pair, complex_lu_factor, complex_lu_solve, narrow_band_lu_factor, &
+      narrow_band_lu_solve
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
    implicit none
    private
@@ -19,7 +20,8 @@ contains
       type(unittest_type), allocatable, intent(out) :: testsuite(:)
       testsuite = [ &
          new_unittest("number-formats", test_formats), &
-         new_unittest("written-out-lu-equals-lapack", test_written_out_lu) &
+         new_unittest("written-out-lu-equals-lapack", test_written_out_lu), &
+         new_unittest("pair-solve-equals-single-solves", test_pair_solve) &
          ]
    end subroutine collect_base
 
@@ -144,6 +146,53 @@ contains
          end do
       end do
    end subroutine test_written_out_lu
+
+   !> small_lu_solve_pair (a real and a complex system in one pass, Radau IIA's two)
+   !> gives the real solution of small_lu_solve with the reciprocal pivots bit for bit,
+   !> and the complex one of zgetrs on the same (zgetrf's) factors to 1e-13 relative,
+   !> for every order up to 24, on pseudo-random matrices that need row interchanges.
+   subroutine test_pair_solve(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), allocatable :: a(:, :), inverse(:), b(:), x(:), re(:), im(:)
+      complex(dp), allocatable :: c(:, :), lu(:, :), c_inverse(:), d(:), z(:)
+      integer, allocatable :: pivots(:), c_pivots(:), lapack_pivots(:)
+      integer :: n, i, j, info
+      integer(i8) :: state
+      character(len=:), allocatable :: label
+
+      state = 20261125_i8
+      do n = 1, 24
+         label = "n = "//format_integer(n)
+         allocate (a(n, n), inverse(n), b(n), x(n), re(n), im(n), c(n, n), lu(n, n), c_inverse(n), d(n), z(n), &
+            pivots(n), c_pivots(n), lapack_pivots(n))
+         do j = 1, n
+            do i = 1, n
+               a(i, j) = next_value(state)
+               c(i, j) = cmplx(next_value(state), next_value(state), dp)
+            end do
+            b(j) = next_value(state)
+            d(j) = cmplx(next_value(state), next_value(state), dp)
+         end do
+         lu = c
+         call complex_lu_factor(lu, lapack_pivots, info)
+         call small_lu_factor(c, c_pivots, info, c_inverse)
+         call small_lu_factor(a, pivots, info, inverse)
+         x = b
+         call small_lu_solve(a, pivots, x, inverse)
+         z = d
+         call complex_lu_solve(lu, lapack_pivots, z, info)
+         ! the solutions of the pair solve: b into b, d into re and im
+         re = d%re
+         im = d%im
+         call small_lu_solve_pair(a, pivots, inverse, c, c_pivots, c_inverse, b, re, im)
+         call check(error, all(b == x), label//": the real solution differs from small_lu_solve")
+         if (allocated(error)) return
+         call check(error, maxval(abs(cmplx(re, im, dp) - z)) <= 1.0e-13_dp*maxval(abs(z)), &
+            label//": the complex solution differs from zgetrs")
+         if (allocated(error)) return
+         deallocate (a, inverse, b, x, re, im, c, lu, c_inverse, d, z, pivots, c_pivots, lapack_pivots)
+      end do
+   end subroutine test_pair_solve
 
    !> x = A^(-1) x from LU factors, row interchanges and 1/U(k, k): the interchanges, then
    !> the forward and back substitution column by column.

@@ -35,6 +35,25 @@ module test_problems
       procedure :: g => user_g
    end type vdp_without_jacobians
 
+   !> A test-set problem written with only f and g (and F = f + g in one call, `rhs`),
+   !> counting every call of each: how many evaluations a difference Jacobian takes
+   type, extends(ode_problem_fd) :: counted_without_jacobians
+      class(test_problem_type), allocatable :: model
+      integer :: f_calls = 0, g_calls = 0, rhs_calls = 0, jac_g_calls = 0
+   contains
+      procedure :: f => counted_f
+      procedure :: g => counted_g
+      procedure :: rhs => counted_rhs
+      procedure :: jacobian_structure => counted_structure
+   end type counted_without_jacobians
+
+   !> The same with the model's own dg/dU (df/dU still by differences)
+   type, extends(counted_without_jacobians) :: counted_with_jac_g
+   contains
+      procedure :: jac_g => counted_jac_g
+      procedure :: jac_g_band => counted_jac_g_band
+   end type counted_with_jac_g
+
 contains
 
    !> Collect all exported unit tests
@@ -44,6 +63,8 @@ contains
          new_unittest("van-der-pol-jacobians", test_van_der_pol_jacobians), &
          new_unittest("linear-test-jacobians", test_linear_test_jacobians), &
          new_unittest("problem-without-jacobians", test_problem_without_jacobians), &
+         new_unittest("difference-jacobian-of-rhs", test_difference_jacobian_of_rhs), &
+         new_unittest("radau5-without-jacobians", test_radau5_without_jacobians), &
          new_unittest("van-der-pol-initial-states", test_initial_states), &
          new_unittest("test-set-jacobians", test_test_set_jacobians), &
          new_unittest("rhs-and-jac-equal-their-parts", test_rhs_equals_parts), &
@@ -140,6 +161,142 @@ contains
       call check(error, maxval(abs(u_a - u_d)) < 1.0e-10_dp, "finite-difference run differs")
    end subroutine test_problem_without_jacobians
 
+   !> Without analytic Jacobians, the whole Jacobian J (`jac`, `jac_band`: radau5's,
+   !> i-t-1's and i-t-2's) takes one evaluation of F = f + g (`rhs`) per perturbed column
+   !> (n + 1 dense on HIRES, lower + upper + 2 for the Brusselator's band) and none of f
+   !> or g alone, and equals the analytic J to the differences' accuracy; with the
+   !> problem's own dg/dU it stays jac_f by differences of f plus that dg/dU.
+   subroutine test_difference_jacobian_of_rhs(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(counted_without_jacobians) :: problem
+      type(counted_with_jac_g) :: with_jac_g
+      real(dp), allocatable :: u(:), jac(:, :), exact(:, :)
+      integer :: n, lower, upper, repeat
+
+      ! dense: HIRES, n = 8
+      allocate (problem%model, source=new_hires())
+      n = size(problem%model%u0)
+      u = problem%model%u0 + 0.1_dp*problem%model%u0(1)
+      allocate (jac(n, n), exact(n, n))
+      call problem%model%jac(0.0_dp, u, exact)
+      do repeat = 1, 2
+         problem%f_calls = 0
+         problem%g_calls = 0
+         problem%rhs_calls = 0
+         call problem%jac(0.0_dp, u, jac)
+         call check(error, problem%rhs_calls, n + 1, "dense J: evaluations of F")
+         if (allocated(error)) return
+         call check(error, problem%f_calls + problem%g_calls, 0, "dense J: evaluations of f or g alone")
+         if (allocated(error)) return
+         call check(error, maxval(abs(jac - exact))/max(1.0_dp, maxval(abs(exact))) < fd_tolerance, &
+            "dense J differs from the analytic one")
+         if (allocated(error)) return
+      end do
+      allocate (with_jac_g%model, source=new_hires())
+      call with_jac_g%jac(0.0_dp, u, jac)
+      call check(error, with_jac_g%f_calls == n + 1 .and. with_jac_g%g_calls == 0 .and. &
+         with_jac_g%rhs_calls == 0 .and. with_jac_g%jac_g_calls == 1, &
+         "dense J with the problem's dg/dU: not differences of f plus dg/dU")
+      if (allocated(error)) return
+      call check(error, maxval(abs(jac - exact))/max(1.0_dp, maxval(abs(exact))) < fd_tolerance, &
+         "dense J with the problem's dg/dU differs from the analytic one")
+      if (allocated(error)) return
+      deallocate (jac, exact, problem%model, with_jac_g%model)
+
+      ! band: the Brusselator on 20 points (n = 40, bandwidths 2 and 2)
+      allocate (problem%model, source=new_brusselator(20))
+      n = size(problem%model%u0)
+      call problem%bandwidths(n, lower, upper)
+      u = problem%model%u0 + 0.1_dp
+      allocate (jac(lower + upper + 1, n), exact(lower + upper + 1, n))
+      call problem%model%jac_band(0.0_dp, u, exact)
+      do repeat = 1, 2
+         problem%f_calls = 0
+         problem%g_calls = 0
+         problem%rhs_calls = 0
+         call problem%jac_band(0.0_dp, u, jac)
+         call check(error, problem%rhs_calls, lower + upper + 2, "band J: evaluations of F")
+         if (allocated(error)) return
+         call check(error, problem%f_calls + problem%g_calls, 0, "band J: evaluations of f or g alone")
+         if (allocated(error)) return
+         call check(error, maxval(abs(jac - exact))/max(1.0_dp, maxval(abs(exact))) < fd_tolerance, &
+            "band J differs from the analytic one")
+         if (allocated(error)) return
+      end do
+      allocate (with_jac_g%model, source=new_brusselator(20))
+      with_jac_g%f_calls = 0
+      with_jac_g%jac_g_calls = 0
+      call with_jac_g%jac_band(0.0_dp, u, jac)
+      call check(error, with_jac_g%f_calls == lower + upper + 2 .and. with_jac_g%g_calls == 0 .and. &
+         with_jac_g%rhs_calls == 0 .and. with_jac_g%jac_g_calls == 1, &
+         "band J with the problem's dg/dU: not differences of f plus dg/dU")
+      if (allocated(error)) return
+      call check(error, maxval(abs(jac - exact))/max(1.0_dp, maxval(abs(exact))) < fd_tolerance, &
+         "band J with the problem's dg/dU differs from the analytic one")
+   end subroutine test_difference_jacobian_of_rhs
+
+   !> radau5 on HIRES and the Brusselator (band) without analytic Jacobians: every
+   !> evaluation is one of F (n, or lower + upper + 1, per Jacobian beside the scheme's
+   !> own: the differences start from F at the step's start, which the scheme evaluates
+   !> anyway; the first Jacobian, which finds how J is formed, one more), and the run takes
+   !> as many steps as with the analytic Jacobians (within 5 %) to a final state as close
+   !> to the tight reference.
+   subroutine test_radau5_without_jacobians(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=11) :: "hires", "brusselator"]
+      type(counted_without_jacobians) :: problem
+      class(test_problem_type), allocatable :: analytic
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats, stats_analytic
+      type(status_type) :: stat
+      real(dp), allocatable :: u(:), u_analytic(:), reference(:)
+      integer :: k, n, lower, upper, per_jacobian
+      real(dp) :: error_d, error_a
+
+      do k = 1, size(names)
+         call new_test_problem(trim(names(k)), analytic, stat)
+         if (allocated(problem%model)) deallocate (problem%model)
+         allocate (problem%model, source=analytic)
+         problem%rhs_calls = 0
+         n = size(analytic%u0)
+         call analytic%bandwidths(n, lower, upper)
+         per_jacobian = merge(n, lower + upper + 1, lower < 0)
+         options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp*analytic%atol/analytic%rtol)
+         ! the reference: radau5 with the analytic Jacobians at 1e-11
+         reference = analytic%u0
+         call new_scheme("radau5", scheme, stat)
+         call integrate(analytic, scheme, analytic%t0, analytic%t_end, reference, &
+            integrator_options_type(rtol=1.0e-11_dp, atol=1.0e-11_dp*analytic%atol/analytic%rtol), stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//": reference")
+         if (allocated(error)) return
+         u_analytic = analytic%u0
+         call new_scheme("radau5", scheme, stat)
+         call integrate(analytic, scheme, analytic%t0, analytic%t_end, u_analytic, options, stats_analytic, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//": analytic")
+         if (allocated(error)) return
+         u = analytic%u0
+         call new_scheme("radau5", scheme, stat)
+         call integrate(problem, scheme, analytic%t0, analytic%t_end, u, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//": without Jacobians")
+         if (allocated(error)) return
+         call check(error, problem%f_calls + problem%g_calls, 0, trim(names(k))//": evaluations of f or g alone")
+         if (allocated(error)) return
+         call check(error, int(problem%rhs_calls, kind(stats%work%f_evaluations)), &
+            stats%work%f_evaluations + per_jacobian*stats%work%jac_f_evaluations + 1, &
+            trim(names(k))//": evaluations of F beside the scheme's own")
+         if (allocated(error)) return
+         call check(error, abs(stats%accepted_steps - stats_analytic%accepted_steps) <= &
+            0.05_dp*stats_analytic%accepted_steps, trim(names(k))//": accepted steps")
+         if (allocated(error)) return
+         error_d = maxval(abs(u - reference)/(1.0e-6_dp*analytic%atol/analytic%rtol + 1.0e-6_dp*abs(reference)))
+         error_a = maxval(abs(u_analytic - reference)/(1.0e-6_dp*analytic%atol/analytic%rtol + &
+            1.0e-6_dp*abs(reference)))
+         call check(error, error_d <= 2.0_dp*error_a + 1.0_dp, trim(names(k))//": error against the reference")
+         if (allocated(error)) return
+      end do
+   end subroutine test_radau5_without_jacobians
+
    !> Every problem of the test set: analytic Jacobians of f and g against central
    !> differences at the initial state and at a perturbed state. Central differences
    !> are exact for the quadratic kinetics; with increments 1e-6 max(|u_j|, 1e-3) the
@@ -174,8 +331,9 @@ contains
    !> bit (i-t-2's residual takes J F from it: its steps do not depend on whether a
    !> problem has a product of its own), for every problem of the test set (those that
    !> compute F, J or J v in one call and those that keep the defaults), both Van der
-   !> Pol, OREGO and HIRES splittings, and a user problem with f and g only; at the
-   !> initial state and at a perturbed one.
+   !> Pol, OREGO and HIRES splittings, and a user problem with f and g only (whose J,
+   !> differences of F, equals the differences of f plus those of g to fd_tolerance); at
+   !> the initial state and at a perturbed one.
    subroutine test_rhs_equals_parts(error)
       type(error_type), allocatable, intent(out) :: error
       class(test_problem_type), allocatable :: problem
@@ -203,14 +361,16 @@ contains
       call compare_rhs(error, reaction_stiff, reaction_stiff%u0, "hires, reaction stiff")
       if (allocated(error)) return
       user%mu = 5.0_dp
-      call compare_rhs(error, user, [2.0_dp, -0.5_dp], "a problem with the default rhs")
+      call compare_rhs(error, user, [2.0_dp, -0.5_dp], "a problem with the default rhs", differenced=.true.)
    end subroutine test_rhs_equals_parts
 
-   subroutine compare_rhs(error, problem, u0, label)
+   subroutine compare_rhs(error, problem, u0, label, differenced)
       type(error_type), allocatable, intent(out) :: error
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: u0(:)
       character(len=*), intent(in) :: label
+      !> J by differences of F: equal to jac_f + jac_g to fd_tolerance, not bit for bit
+      logical, intent(in), optional :: differenced
       real(dp), allocatable :: u(:), f(:), g(:), whole(:), jac(:, :), jac_f(:, :), jac_g(:, :), band(:, :), &
          band_f(:, :), band_g(:, :), v(:), product(:), expected(:)
       integer :: which, i, j, lower, upper
@@ -230,7 +390,12 @@ contains
          call problem%jac_f(0.3_dp, u, jac_f)
          call problem%jac_g(0.3_dp, u, jac_g)
          call problem%jac(0.3_dp, u, jac)
-         call check(error, all(jac == jac_f + jac_g), label//": jac differs from jac_f + jac_g")
+         if (present(differenced)) then
+            call check(error, maxval(abs(jac - (jac_f + jac_g))) <= fd_tolerance*max(1.0_dp, maxval(abs(jac))), &
+               label//": jac differs from jac_f + jac_g")
+         else
+            call check(error, all(jac == jac_f + jac_g), label//": jac differs from jac_f + jac_g")
+         end if
          if (allocated(error)) return
          if (lower >= 0) then
             call problem%jac_f_band(0.3_dp, u, band_f)
@@ -564,5 +729,52 @@ contains
       dudt(1) = 0.0_dp
       dudt(2) = self%mu*(1 - u(1)**2)*u(2) - merge(u(1), 0.0_dp, self%splitting == vdp_split_stiff)
    end subroutine user_g
+
+   subroutine counted_f(self, t, u, dudt)
+      class(counted_without_jacobians), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      self%f_calls = self%f_calls + 1
+      call self%model%f(t, u, dudt)
+   end subroutine counted_f
+
+   subroutine counted_g(self, t, u, dudt)
+      class(counted_without_jacobians), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      self%g_calls = self%g_calls + 1
+      call self%model%g(t, u, dudt)
+   end subroutine counted_g
+
+   subroutine counted_rhs(self, t, u, dudt)
+      class(counted_without_jacobians), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      self%rhs_calls = self%rhs_calls + 1
+      call self%model%rhs(t, u, dudt)
+   end subroutine counted_rhs
+
+   function counted_structure(self, n) result(structure)
+      class(counted_without_jacobians), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      structure = self%model%jacobian_structure(n)
+   end function counted_structure
+
+   subroutine counted_jac_g(self, t, u, jac)
+      class(counted_with_jac_g), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      self%jac_g_calls = self%jac_g_calls + 1
+      call self%model%jac_g(t, u, jac)
+   end subroutine counted_jac_g
+
+   subroutine counted_jac_g_band(self, t, u, band)
+      class(counted_with_jac_g), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      self%jac_g_calls = self%jac_g_calls + 1
+      call self%model%jac_g_band(t, u, band)
+   end subroutine counted_jac_g_band
 
 end module test_problems

@@ -407,8 +407,8 @@ contains
 
    !> The complex solver's (s I - J)^(-1) b against a direct solve (Gauss-Jordan
    !> elimination with partial pivoting on the complex matrix, written here) for a
-   !> small dense J (the written-out LU), a large one (LAPACK) and a band J in dense
-   !> and in band storage; a dense J in a band solver is a reported mismatch.
+   !> small and a large dense J (LAPACK) and a band J in dense and in band storage; a
+   !> dense J in a band solver is a reported mismatch.
    subroutine test_complex_solver(error)
       type(error_type), allocatable, intent(out) :: error
       complex(dp), parameter :: shift = (2.5_dp, 1.7_dp)

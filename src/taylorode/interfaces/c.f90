@@ -23,7 +23,8 @@ module taylorode_interfaces_c
       status_size_mismatch, status_unknown_scheme
    use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
-   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
+   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences, difference_f, difference_g, &
+      difference_rhs, full_jacobian, full_band_jacobian
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_integrate_controller, only: controller_i, controller_pi, controller_pid
@@ -91,6 +92,10 @@ module taylorode_interfaces_c
       procedure :: jacobian_structure => c_structure
       procedure :: jac_f_band => c_jac_f_band
       procedure :: jac_g_band => c_jac_g_band
+      procedure :: jac => c_jac
+      procedure :: jac_band => c_jac_band
+      procedure :: jac_with_rhs => c_jac_with_rhs
+      procedure :: jac_band_with_rhs => c_jac_band_with_rhs
    end type c_problem_type
 
    !> What a handle points to
@@ -569,7 +574,7 @@ contains
       if (.not. c_associated(self%f_callback)) then
          jac = 0.0_dp
       else if (.not. call_jacobian(self, self%jac_f_callback, t, u, jac)) then
-         call dense_differences(self, .true., t, u, jac)
+         call dense_differences(self, difference_f, t, u, jac)
       end if
    end subroutine c_jac_f
 
@@ -580,7 +585,7 @@ contains
       if (.not. c_associated(self%g_callback)) then
          jac = 0.0_dp
       else if (.not. call_jacobian(self, self%jac_g_callback, t, u, jac)) then
-         call dense_differences(self, .false., t, u, jac)
+         call dense_differences(self, difference_g, t, u, jac)
       end if
    end subroutine c_jac_g
 
@@ -600,7 +605,7 @@ contains
       else if (call_jacobian(self, self%jac_f_callback, t, u, self%band_work)) then
          band = self%band_work
       else
-         call band_differences(self, .true., t, u, band)
+         call band_differences(self, difference_f, t, u, band)
       end if
    end subroutine c_jac_f_band
 
@@ -613,8 +618,65 @@ contains
       else if (call_jacobian(self, self%jac_g_callback, t, u, self%band_work)) then
          band = self%band_work
       else
-         call band_differences(self, .false., t, u, band)
+         call band_differences(self, difference_g, t, u, band)
       end if
    end subroutine c_jac_g_band
+
+   !> Whether J comes from differences of F = f + g: both parts given, neither Jacobian.
+   logical function differences_of_rhs(self)
+      type(c_problem_type), intent(in) :: self
+      differences_of_rhs = c_associated(self%f_callback) .and. c_associated(self%g_callback) .and. &
+         .not. (c_associated(self%jac_f_callback) .or. c_associated(self%jac_g_callback))
+   end function differences_of_rhs
+
+   !> Dense J: differences of f + g (one call of each per column) when neither Jacobian is
+   !> given, else jac_f + jac_g (the library's sum, with its work matrix).
+   subroutine c_jac(self, t, u, jac)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (differences_of_rhs(self)) then
+         call dense_differences(self, difference_rhs, t, u, jac)
+      else
+         call full_jacobian(self, t, u, jac)
+      end if
+   end subroutine c_jac
+
+   !> Band J: grouped differences of f + g when neither Jacobian is given, else
+   !> jac_f_band + jac_g_band.
+   subroutine c_jac_band(self, t, u, band)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: band(:, :)
+      if (differences_of_rhs(self)) then
+         call band_differences(self, difference_rhs, t, u, band)
+      else
+         call full_band_jacobian(self, t, u, band)
+      end if
+   end subroutine c_jac_band
+
+   !> Dense J given F(t, u): differences from that F when neither Jacobian is given.
+   subroutine c_jac_with_rhs(self, t, u, value, jac)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (differences_of_rhs(self)) then
+         call dense_differences(self, difference_rhs, t, u, jac, value)
+      else
+         call self%jac(t, u, jac)
+      end if
+   end subroutine c_jac_with_rhs
+
+   !> Band J given F(t, u) (see c_jac_with_rhs).
+   subroutine c_jac_band_with_rhs(self, t, u, value, band)
+      class(c_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: band(:, :)
+      if (differences_of_rhs(self)) then
+         call band_differences(self, difference_rhs, t, u, band, value)
+      else
+         call self%jac_band(t, u, band)
+      end if
+   end subroutine c_jac_band_with_rhs
 
 end module taylorode_interfaces_c

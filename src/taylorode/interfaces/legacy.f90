@@ -37,7 +37,8 @@ module taylorode_interfaces_legacy
       status_evaluation_failed, status_out_of_memory
    use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
-   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences
+   use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences, difference_f, difference_g, &
+      difference_rhs
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_schemes_radau5, only: radau5_type
@@ -162,6 +163,8 @@ module taylorode_interfaces_legacy
       procedure :: jac_f_band => legacy_jac_f_band
       procedure :: jac_g_band => legacy_jac_g_band
       procedure :: jac_band => legacy_jac_band
+      procedure :: jac_with_rhs => legacy_jac_with_rhs
+      procedure :: jac_band_with_rhs => legacy_jac_band_with_rhs
       procedure :: mass_matrix => legacy_mass
       procedure :: mass_matrix_band => legacy_mass_band
    end type legacy_problem_type
@@ -828,7 +831,7 @@ contains
       else if (self%has_jac_f) then
          call call_jac(self, self%jac_f_user, t, u, jac)
       else
-         call dense_differences(self, .true., t, u, jac)
+         call dense_differences(self, difference_f, t, u, jac)
       end if
    end subroutine legacy_jac_f
 
@@ -840,16 +843,19 @@ contains
       if (self%has_jac_g) then
          call call_jac(self, self%jac_g_user, t, u, jac)
       else
-         call dense_differences(self, .false., t, u, jac)
+         call dense_differences(self, difference_g, t, u, jac)
       end if
    end subroutine legacy_jac_g
 
-   !> Dense J: the user's JAC in one call straight into jac (TAYLORODE), else jac_f + jac_g.
+   !> Dense J: the user's JAC in one call straight into jac (TAYLORODE), else jac_f + jac_g;
+   !> without JACF and JACG, differences of FCNF + FCNG (one call of each per column).
    subroutine legacy_jac(self, t, u, jac)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: jac(:, :)
-      if (self%has_f) then
+      if (self%has_f .and. .not. (self%has_jac_f .or. self%has_jac_g)) then
+         call dense_differences(self, difference_rhs, t, u, jac)
+      else if (self%has_f) then
          call self%jac_f(t, u, jac)
          call self%jac_g(t, u, self%jac_work)
          jac = jac + self%jac_work
@@ -876,7 +882,7 @@ contains
       else if (self%has_jac_f) then
          call call_jac(self, self%jac_f_user, t, u, band)
       else
-         call band_differences(self, .true., t, u, band)
+         call band_differences(self, difference_f, t, u, band)
       end if
    end subroutine legacy_jac_f_band
 
@@ -888,16 +894,19 @@ contains
       if (self%has_jac_g) then
          call call_jac(self, self%jac_g_user, t, u, band)
       else
-         call band_differences(self, .false., t, u, band)
+         call band_differences(self, difference_g, t, u, band)
       end if
    end subroutine legacy_jac_g_band
 
-   !> Band J: the user's JAC in one call (TAYLORODE), else jac_f_band + jac_g_band.
+   !> Band J: the user's JAC in one call (TAYLORODE), else jac_f_band + jac_g_band;
+   !> without JACF and JACG, grouped differences of FCNF + FCNG.
    subroutine legacy_jac_band(self, t, u, band)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: band(:, :)
-      if (self%has_f) then
+      if (self%has_f .and. .not. (self%has_jac_f .or. self%has_jac_g)) then
+         call band_differences(self, difference_rhs, t, u, band)
+      else if (self%has_f) then
          call self%jac_f_band(t, u, band)
          call self%jac_g_band(t, u, self%jac_work)
          band = band + self%jac_work
@@ -905,6 +914,40 @@ contains
          call self%jac_g_band(t, u, band)
       end if
    end subroutine legacy_jac_band
+
+   !> Which part J is differenced from when neither JAC(G) nor JACF is given: FCNF + FCNG,
+   !> or FCN alone (TAYLORODE); 0 when a Jacobian routine is given.
+   pure integer function differenced_part(self)
+      class(legacy_problem_type), intent(in) :: self
+      differenced_part = 0
+      if (self%has_jac_f .or. self%has_jac_g) return
+      differenced_part = merge(difference_rhs, difference_g, self%has_f)
+   end function differenced_part
+
+   !> Dense J given F(t, u): without Jacobian routines, differences from that F (N
+   !> evaluations, as RADAU5's from F(X, Y)); else legacy_jac.
+   subroutine legacy_jac_with_rhs(self, t, u, value, jac)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: jac(:, :)
+      if (differenced_part(self) /= 0) then
+         call dense_differences(self, differenced_part(self), t, u, jac, value)
+      else
+         call self%jac(t, u, jac)
+      end if
+   end subroutine legacy_jac_with_rhs
+
+   !> Band J given F(t, u) (see legacy_jac_with_rhs).
+   subroutine legacy_jac_band_with_rhs(self, t, u, value, band)
+      class(legacy_problem_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:), value(:)
+      real(dp), intent(out) :: band(:, :)
+      if (differenced_part(self) /= 0) then
+         call band_differences(self, differenced_part(self), t, u, band, value)
+      else
+         call self%jac_band(t, u, band)
+      end if
+   end subroutine legacy_jac_band_with_rhs
 
    !> M, dense: the user's MAS (dense, or its band expanded).
    subroutine legacy_mass(self, m)

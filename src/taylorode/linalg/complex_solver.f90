@@ -4,8 +4,8 @@
 !>
 !> The solver assembles s I - J from a real dense or band `matrix_type`, factors
 !> it with partial pivoting (zgetrf, or zgbtrf in band storage with room for the
-!> fill-in; small dense systems with the written-out `small_lu_factor`) and solves
-!> with the factors as often as needed. A J whose storage does not fit the
+!> fill-in) and solves with the factors as often as needed. (Radau IIA keeps the
+!> factors of small dense systems itself: `small_lu_factor`, `small_lu_solve_pair`.) A J whose storage does not fit the
 !> solver's (a dense J for a band solver, bandwidths wider than the solver's) is
 !> reported as status_invalid_argument, never silently truncated.
 module taylorode_linalg_complex_solver
@@ -16,7 +16,7 @@ module taylorode_linalg_complex_solver
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, storage_dense, storage_band
    use taylorode_linalg_lapack, only: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, &
-      complex_band_lu_solve, small_lu_factor, small_lu_solve, small_lu_max_order
+      complex_band_lu_solve
    implicit none
    private
 
@@ -37,8 +37,6 @@ module taylorode_linalg_complex_solver
       integer, allocatable :: pivots(:)
       !> Right-hand side work space of `solve_parts`
       complex(dp), allocatable :: work(:)
-      !> 1/U(k, k) of the written-out factorization (small dense systems)
-      complex(dp), allocatable :: inverse_diagonal(:)
       !> Whether `a` holds valid factors
       logical :: factored = .false.
    contains
@@ -96,10 +94,10 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n), stat=memory)
+      allocate (solver%pivots(n), solver%work(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%a)
-         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [3, n], complex_bytes)
+         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [2, n], complex_bytes)
       end if
    end subroutine new_complex_solver
 
@@ -206,8 +204,6 @@ contains
       integer :: info
       if (self%storage == storage_band) then
          call complex_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info)
-      else if (self%n <= small_lu_max_order) then
-         call small_lu_factor(self%a, self%pivots, info, self%inverse_diagonal)
       else
          call complex_lu_factor(self%a, self%pivots, info)
       end if
@@ -234,8 +230,6 @@ contains
       end if
       if (self%storage == storage_band) then
          call complex_band_lu_solve(self%a, self%kl, self%ku, self%pivots, x, info)
-      else if (self%n <= small_lu_max_order) then
-         call small_lu_solve(self%a, self%pivots, x)
       else
          call complex_lu_solve(self%a, self%pivots, x, info)
       end if
@@ -257,10 +251,6 @@ contains
          call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
          return
       end if
-      if (self%storage == storage_dense .and. self%n <= small_lu_max_order) then
-         call small_solve_parts(self%a, self%pivots, self%inverse_diagonal, re, im)
-         return
-      end if
       do i = 1, self%n
          self%work(i) = cmplx(re(i), im(i), dp)
       end do
@@ -270,54 +260,5 @@ contains
          im(i) = self%work(i)%im
       end do
    end subroutine solve_parts
-
-   !> `small_lu_solve` on a right-hand side kept as real and imaginary parts, in
-   !> real arithmetic (no packing into a complex vector; the systems of Radau IIA
-   !> on small problems are solved a few times per step).
-   pure subroutine small_solve_parts(lu, ipiv, inverse_diagonal, re, im)
-      complex(dp), contiguous, intent(in) :: lu(:, :)
-      integer, contiguous, intent(in) :: ipiv(:)
-      complex(dp), contiguous, intent(in) :: inverse_diagonal(:)
-      real(dp), contiguous, intent(inout) :: re(:), im(:)
-      integer :: n, i, k, p
-      real(dp) :: swap, br, bi, lr, li
-
-      n = size(lu, 1)
-      do k = 1, n
-         p = ipiv(k)
-         if (p /= k) then
-            swap = re(k)
-            re(k) = re(p)
-            re(p) = swap
-            swap = im(k)
-            im(k) = im(p)
-            im(p) = swap
-         end if
-      end do
-      do k = 1, n - 1
-         br = re(k)
-         bi = im(k)
-         do i = k + 1, n
-            lr = lu(i, k)%re
-            li = lu(i, k)%im
-            re(i) = re(i) - (br*lr - bi*li)
-            im(i) = im(i) - (br*li + bi*lr)
-         end do
-      end do
-      do k = n, 1, -1
-         lr = inverse_diagonal(k)%re
-         li = inverse_diagonal(k)%im
-         br = re(k)*lr - im(k)*li
-         bi = re(k)*li + im(k)*lr
-         re(k) = br
-         im(k) = bi
-         do i = 1, k - 1
-            lr = lu(i, k)%re
-            li = lu(i, k)%im
-            re(i) = re(i) - (br*lr - bi*li)
-            im(i) = im(i) - (br*li + bi*lr)
-         end do
-      end do
-   end subroutine small_solve_parts
 
 end module taylorode_linalg_complex_solver

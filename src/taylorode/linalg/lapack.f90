@@ -17,9 +17,10 @@
 !> pivoting (LAPACK's pivot choice and factor layout) written out for the tiny
 !> dense systems of stiff test problems (n of 2 to a few dozen), where the cost
 !> of a LAPACK call exceeds the arithmetic (dgetrs takes ~36 ns at n = 2, the
-!> elimination a few ns). Up to order 4 (the stacked Newton matrices of two
-!> unknowns) the solve is written out statement by statement: the loops' set-up cost
-!> more than their arithmetic there.
+!> elimination a few ns), and `small_lu_solve_pair`, which solves a real and a
+!> complex system (Radau IIA's two) with such factors in one pass. Up to order 4
+!> (the stacked Newton matrices of two unknowns) the real solve is written out
+!> statement by statement: the loops' set-up cost more than their arithmetic there.
 module taylorode_linalg_lapack
    use, intrinsic :: iso_c_binding, only: c_char, c_int
    use taylorode_base_kinds, only: dp
@@ -28,7 +29,7 @@ module taylorode_linalg_lapack
 
    public :: lu_factor, lu_solve, band_lu_factor, band_lu_solve, lapack_error_handler
    public :: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, complex_band_lu_solve
-   public :: small_lu_factor, small_lu_solve, small_lu_max_order
+   public :: small_lu_factor, small_lu_solve, small_lu_solve_pair, small_lu_max_order
    public :: narrow_band_lu_factor, narrow_band_lu_solve, narrow_band_max_width
 
    !> Largest order for which the written-out LU is used instead of LAPACK. With
@@ -45,9 +46,9 @@ module taylorode_linalg_lapack
       module procedure small_lu_factor_real, small_lu_factor_complex
    end interface small_lu_factor
 
-   !> Solve with the factors of `small_lu_factor` (real or complex)
+   !> Solve with the factors of `small_lu_factor` (real; complex systems: `small_lu_solve_pair`)
    interface small_lu_solve
-      module procedure small_lu_solve_real, small_lu_solve_complex
+      module procedure small_lu_solve_real
    end interface small_lu_solve
 
    interface
@@ -503,6 +504,86 @@ contains
       end if
    end subroutine small_lu_solve_real
 
+   !> Solve A x = b (real) and C (y + i z) = c + i d (complex, the right-hand side and
+   !> the solution kept as real and imaginary parts) with the factors of
+   !> `small_lu_factor` (and its reciprocal pivots) in one pass over the rows: the two
+   !> Newton systems of Radau IIA on small dense problems, where the loops cost more
+   !> than their arithmetic. Each value is computed as `small_lu_solve` computes it.
+   pure subroutine small_lu_solve_pair(a, a_pivots, a_inverse_diagonal, c, c_pivots, c_inverse_diagonal, x, re, im)
+      !> LU factors of the real matrix
+      real(dp), contiguous, intent(in) :: a(:, :)
+      !> Its pivot indices
+      integer, contiguous, intent(in) :: a_pivots(:)
+      !> Its 1/U(k, k)
+      real(dp), contiguous, intent(in) :: a_inverse_diagonal(:)
+      !> LU factors of the complex matrix
+      complex(dp), contiguous, intent(in) :: c(:, :)
+      !> Its pivot indices
+      integer, contiguous, intent(in) :: c_pivots(:)
+      !> Its 1/U(k, k)
+      complex(dp), contiguous, intent(in) :: c_inverse_diagonal(:)
+      !> Real right-hand side on entry, solution on exit
+      real(dp), contiguous, intent(inout) :: x(:)
+      !> Real and imaginary parts of the complex right-hand side on entry, of the solution on exit
+      real(dp), contiguous, intent(inout) :: re(:), im(:)
+      integer :: n, i, k, p
+      real(dp) :: swap, bk, br, bi, lr, li
+
+      n = size(a, 1)
+      do k = 1, n
+         p = a_pivots(k)
+         if (p /= k) then
+            swap = x(k)
+            x(k) = x(p)
+            x(p) = swap
+         end if
+         p = c_pivots(k)
+         if (p /= k) then
+            swap = re(k)
+            re(k) = re(p)
+            re(p) = swap
+            swap = im(k)
+            im(k) = im(p)
+            im(p) = swap
+         end if
+      end do
+      do k = 1, n - 1
+         bk = x(k)
+         br = re(k)
+         bi = im(k)
+         do i = k + 1, n
+            call eliminate(x(i), re(i), im(i), a(i, k), c(i, k))
+         end do
+      end do
+      do k = n, 1, -1
+         bk = x(k)*a_inverse_diagonal(k)
+         x(k) = bk
+         lr = c_inverse_diagonal(k)%re
+         li = c_inverse_diagonal(k)%im
+         br = re(k)*lr - im(k)*li
+         bi = re(k)*li + im(k)*lr
+         re(k) = br
+         im(k) = bi
+         do i = 1, k - 1
+            call eliminate(x(i), re(i), im(i), a(i, k), c(i, k))
+         end do
+      end do
+   contains
+      !> One row's values less the factors' entries (a_ik, c_ik) times the known values
+      !> bk and br + i bi
+      pure subroutine eliminate(xi, rei, imi, a_ik, c_ik)
+         real(dp), intent(inout) :: xi, rei, imi
+         real(dp), intent(in) :: a_ik
+         complex(dp), intent(in) :: c_ik
+         real(dp) :: lr, li
+         xi = xi - bk*a_ik
+         lr = c_ik%re
+         li = c_ik%im
+         rei = rei - (br*lr - bi*li)
+         imi = imi - (br*li + bi*lr)
+      end subroutine eliminate
+   end subroutine small_lu_solve_pair
+
    !> `small_lu_solve_real` (with 1/U(k, k)) for n <= 4, statement by statement: the row
    !> interchanges, then the forward and back substitution; the same operations in the
    !> same order, so the same numbers bit for bit.
@@ -641,40 +722,6 @@ contains
          end do
       end do
    end subroutine small_lu_factor_complex
-
-   !> Solve A x = b with the factors from `small_lu_factor` (or `complex_lu_factor`).
-   pure subroutine small_lu_solve_complex(lu, ipiv, b)
-      !> LU factors
-      complex(dp), contiguous, intent(in) :: lu(:, :)
-      !> Pivot indices
-      integer, contiguous, intent(in) :: ipiv(:)
-      !> Right-hand side on entry, solution on exit
-      complex(dp), contiguous, intent(inout) :: b(:)
-      integer :: n, i, k
-      complex(dp) :: swap, bk
-
-      n = size(lu, 1)
-      do k = 1, n
-         if (ipiv(k) /= k) then
-            swap = b(k)
-            b(k) = b(ipiv(k))
-            b(ipiv(k)) = swap
-         end if
-      end do
-      do k = 1, n - 1
-         bk = b(k)
-         do i = k + 1, n
-            b(i) = b(i) - bk*lu(i, k)
-         end do
-      end do
-      do k = n, 1, -1
-         b(k) = b(k)*reciprocal(lu(k, k))
-         bk = b(k)
-         do i = 1, k - 1
-            b(i) = b(i) - bk*lu(i, k)
-         end do
-      end do
-   end subroutine small_lu_solve_complex
 
    !> 1/z for a nonzero z, scaled by the larger part so that neither squaring
    !> overflows nor underflows (the compiler's complex division is a library call).

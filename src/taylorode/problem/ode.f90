@@ -30,12 +30,24 @@ module taylorode_problem_ode
    private
 
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
-   public :: reduce_sum, reduce_max
+   public :: reduce_sum, reduce_max, difference_f, difference_g, difference_rhs, full_jacobian, full_band_jacobian
 
    !> `reduce` operation: the sum over the processes
    integer, parameter :: reduce_sum = 1
    !> `reduce` operation: the maximum over the processes
    integer, parameter :: reduce_max = 2
+
+   !> What a difference Jacobian differences: f
+   integer, parameter :: difference_f = 1
+   !> What a difference Jacobian differences: g
+   integer, parameter :: difference_g = 2
+   !> What a difference Jacobian differences: F = f + g, one call of `rhs` per perturbation
+   integer, parameter :: difference_rhs = 3
+
+   !> How the default `jac` and `jac_band` form J: not yet known (before their first call),
+   !> by differences of F (both part Jacobians are the default differences), or from the
+   !> part Jacobians (at least one is the problem's own)
+   integer, parameter :: parts_unknown = 0, parts_differenced = 1, parts_own = 2
 
    !> Work arrays of the finite-difference Jacobians, kept between calls
    type :: difference_workspace_type
@@ -80,6 +92,11 @@ module taylorode_problem_ode
       !> J for the default `add_jacobian_product`, dense or in band storage (allocated at
       !> its first call)
       real(dp), allocatable, private :: product_work(:, :)
+      !> How the default `jac` (dense) and `jac_band` form J, found at their first call
+      integer, private :: dense_parts = parts_unknown, band_parts = parts_unknown
+      !> Set while the default `jac` or `jac_band` asks a part Jacobian whether it is the
+      !> default differences: a default then only says so (default_met) and computes nothing
+      logical, private :: probing = .false., default_met = .false.
    contains
       !> Non-stiff part f(t, U)
       procedure(rhs_interface), deferred :: f
@@ -106,13 +123,22 @@ module taylorode_problem_ode
       !> only F (radau5); default: f, then g added. Override it when F costs less in one
       !> call; it must equal f + g
       procedure :: rhs
-      !> The whole Jacobian J = df/dU + dg/dU, for the schemes that use only J (i-t-2,
-      !> radau5); default: jac_f, then jac_g added. Override it when J costs less in one
+      !> The whole Jacobian J = df/dU + dg/dU, for the schemes that use only J (i-t-1,
+      !> i-t-2, radau5); default: jac_f, then jac_g added, or, when both are the default
+      !> differences (`ode_problem_fd`), forward differences of F = `rhs` (one call per
+      !> column instead of one of f and one of g). Override it when J costs less in one
       !> call; it must equal jac_f + jac_g
       procedure :: jac => full_jacobian
       !> J = df/dU + dg/dU in LAPACK band storage (default: jac_f_band, then jac_g_band
-      !> added); the same contract as `jac`
+      !> added, or grouped differences of F when both are the default differences); the
+      !> same contract as `jac`
       procedure :: jac_band => full_band_jacobian
+      !> J at (t, u) where the caller already has F(t, u) (radau5, at the start of its
+      !> step): `jac`, or, when J is differenced from F, the differences from that F (n
+      !> evaluations of F instead of n + 1). The same contract as `jac`
+      procedure :: jac_with_rhs => full_jacobian_with_rhs
+      !> `jac_band` where the caller already has F(t, u) (see `jac_with_rhs`)
+      procedure :: jac_band_with_rhs => full_band_jacobian_with_rhs
       !> The constant mass matrix M, dense (asked for when `has_mass` and the Jacobian
       !> structure is dense; default: the identity)
       procedure :: mass_matrix
@@ -326,7 +352,11 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
-      call band_differences(self, .true., t, u, band)
+      if (self%probing) then
+         self%default_met = .true.
+         return
+      end if
+      call band_differences(self, difference_f, t, u, band)
    end subroutine jac_f_band
 
    !> dg/dU in LAPACK band storage (see jac_f_band).
@@ -339,7 +369,11 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
-      call band_differences(self, .false., t, u, band)
+      if (self%probing) then
+         self%default_met = .true.
+         return
+      end if
+      call band_differences(self, difference_g, t, u, band)
    end subroutine jac_g_band
 
    !> F(t, u) = f(t, u) + g(t, u): f into dudt, then g, through a work array the problem
@@ -364,7 +398,11 @@ contains
       end do
    end subroutine rhs
 
-   !> J = df/dU + dg/dU: jac_f, then jac_g into a work array the problem keeps, added.
+   !> J = df/dU + dg/dU: jac_f, then jac_g into a work array the problem keeps, added;
+   !> when both are the default differences (`ode_problem_fd`), forward differences of F
+   !> (`rhs`, once per column). Which it is, is found at the first call: each part
+   !> Jacobian is called while the problem probes, a default then computes nothing and
+   !> says so, the problem's own computes its matrix as always (and it is used).
    subroutine full_jacobian(self, t, u, jac)
       !> The problem
       class(ode_problem), intent(inout) :: self
@@ -374,16 +412,44 @@ contains
       real(dp), intent(in) :: u(:)
       !> J(t, u), size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
+      logical :: f_differenced, g_differenced
       type(status_type) :: stat
+
+      if (self%dense_parts == parts_differenced) then
+         call dense_differences(self, difference_rhs, t, u, jac)
+         return
+      end if
       call sized(self%jacobian_work, size(jac, 1), size(jac, 2), "the problem's work matrix for dg/dU", stat)
       if (.not. work_ready(self, stat, jac)) return
-      call self%jac_f(t, u, jac)
-      call self%jac_g(t, u, self%jacobian_work)
+      if (self%dense_parts == parts_own) then
+         call self%jac_f(t, u, jac)
+         call self%jac_g(t, u, self%jacobian_work)
+      else
+         self%probing = .true.
+         self%default_met = .false.
+         call self%jac_f(t, u, jac)
+         f_differenced = self%default_met
+         self%default_met = .false.
+         call self%jac_g(t, u, self%jacobian_work)
+         g_differenced = self%default_met
+         self%probing = .false.
+         self%default_met = .false.
+         if (f_differenced .and. g_differenced) then
+            self%dense_parts = parts_differenced
+            call dense_differences(self, difference_rhs, t, u, jac)
+            return
+         end if
+         self%dense_parts = parts_own
+         if (f_differenced) call dense_differences(self, difference_f, t, u, jac)
+         if (g_differenced) call dense_differences(self, difference_g, t, u, self%jacobian_work)
+      end if
       jac = jac + self%jacobian_work
    end subroutine full_jacobian
 
    !> J = df/dU + dg/dU in band storage: jac_f_band, then jac_g_band into a work
-   !> array the problem keeps, added.
+   !> array the problem keeps, added; when both are the default grouped differences,
+   !> grouped differences of F (`rhs`, once per group of columns), found at the first
+   !> call as `jac` finds it.
    subroutine full_band_jacobian(self, t, u, band)
       !> The problem
       class(ode_problem), intent(inout) :: self
@@ -393,13 +459,79 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
+      logical :: f_differenced, g_differenced
       type(status_type) :: stat
+
+      if (self%band_parts == parts_differenced) then
+         call band_differences(self, difference_rhs, t, u, band)
+         return
+      end if
       call sized(self%jacobian_work, size(band, 1), size(band, 2), "the problem's work matrix for dg/dU", stat)
       if (.not. work_ready(self, stat, band)) return
-      call self%jac_f_band(t, u, band)
-      call self%jac_g_band(t, u, self%jacobian_work)
+      if (self%band_parts == parts_own) then
+         call self%jac_f_band(t, u, band)
+         call self%jac_g_band(t, u, self%jacobian_work)
+      else
+         self%probing = .true.
+         self%default_met = .false.
+         call self%jac_f_band(t, u, band)
+         f_differenced = self%default_met
+         self%default_met = .false.
+         call self%jac_g_band(t, u, self%jacobian_work)
+         g_differenced = self%default_met
+         self%probing = .false.
+         self%default_met = .false.
+         if (f_differenced .and. g_differenced) then
+            self%band_parts = parts_differenced
+            call band_differences(self, difference_rhs, t, u, band)
+            return
+         end if
+         self%band_parts = parts_own
+         if (f_differenced) call band_differences(self, difference_f, t, u, band)
+         if (g_differenced) call band_differences(self, difference_g, t, u, self%jacobian_work)
+      end if
       band = band + self%jacobian_work
    end subroutine full_band_jacobian
+
+   !> J at (t, u) given F(t, u): differences of F from it once `jac` has found that both
+   !> part Jacobians are the default differences (at its first call, made here when
+   !> needed), else `jac`.
+   subroutine full_jacobian_with_rhs(self, t, u, value, jac)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> F(t, u)
+      real(dp), intent(in) :: value(:)
+      !> J(t, u), size(u) x size(u)
+      real(dp), intent(out) :: jac(:, :)
+      if (self%dense_parts == parts_differenced) then
+         call dense_differences(self, difference_rhs, t, u, jac, value)
+      else
+         call self%jac(t, u, jac)
+      end if
+   end subroutine full_jacobian_with_rhs
+
+   !> J at (t, u) in band storage given F(t, u) (see full_jacobian_with_rhs).
+   subroutine full_band_jacobian_with_rhs(self, t, u, value, band)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(:)
+      !> F(t, u)
+      real(dp), intent(in) :: value(:)
+      !> Band storage, (lower + upper + 1) x size(u)
+      real(dp), intent(out) :: band(:, :)
+      if (self%band_parts == parts_differenced) then
+         call band_differences(self, difference_rhs, t, u, band, value)
+      else
+         call self%jac_band(t, u, band)
+      end if
+   end subroutine full_band_jacobian_with_rhs
 
    !> y = y + alpha J v, J = df/dU + dg/dU from `jac` (dense) or `jac_band` (banded
    !> problems) in a work array the problem keeps (allocated at the first call, and again
@@ -492,7 +624,7 @@ contains
       real(dp), intent(in) :: v(:)
       !> J_f v, size of u
       real(dp), intent(out) :: jv(:)
-      call directional_difference(self, .true., t, u, v, jv)
+      call directional_difference(self, difference_f, t, u, v, jv)
    end subroutine jvp_f
 
    !> J_g(t, u) v by a forward difference of g along v (see jvp_f).
@@ -507,7 +639,7 @@ contains
       real(dp), intent(in) :: v(:)
       !> J_g v, size of u
       real(dp), intent(out) :: jv(:)
-      call directional_difference(self, .false., t, u, v, jv)
+      call directional_difference(self, difference_g, t, u, v, jv)
    end subroutine jvp_g
 
    !> Combine `values` elementwise over every process that holds a part of the state:
@@ -544,21 +676,23 @@ contains
       workspace_ready = work_ready(self, stat, value)
    end function workspace_ready
 
-   !> Grouped forward differences of f (`of_f`) or g into band storage: the columns
-   !> j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The band
-   !> is read from the storage it is given: size(band, 1) = lower + upper + 1 with
+   !> Grouped forward differences of f, g or F = f + g (`part`) into band storage: the
+   !> columns j, j + w, j + 2w, ... (w = lower + upper + 1) are perturbed together. The
+   !> band is read from the storage it is given: size(band, 1) = lower + upper + 1 with
    !> upper from the checked structure.
-   subroutine band_differences(self, of_f, t, u, band)
+   subroutine band_differences(self, part, t, u, band, value)
       !> The problem
       class(ode_problem), intent(inout) :: self
-      !> Of f (true) or of g
-      logical, intent(in) :: of_f
+      !> difference_f, difference_g or difference_rhs
+      integer, intent(in) :: part
       !> Time
       real(dp), intent(in) :: t
       !> State
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
+      !> The part at (t, u) when the caller has it (one evaluation fewer)
+      real(dp), intent(in), optional :: value(:)
       type(matrix_structure_type) :: structure
       type(status_type) :: stat
       integer :: lower, upper, width, group, i, j, n
@@ -572,7 +706,11 @@ contains
       associate (base => self%differences%base, shifted => self%differences%shifted, &
          probe => self%differences%probe, increment => self%differences%increment)
          band = 0.0_dp
-         call evaluate_part(self, of_f, t, u, base)
+         if (present(value)) then
+            base = value
+         else
+            call evaluate_part(self, part, t, u, base)
+         end if
          do group = 1, min(width, n)
             probe = u
             do j = group, n, width
@@ -580,7 +718,7 @@ contains
                probe(j) = u(j) + increment(j)
                increment(j) = probe(j) - u(j)
             end do
-            call evaluate_part(self, of_f, t, probe, shifted)
+            call evaluate_part(self, part, t, probe, shifted)
             do j = group, n, width
                do i = max(1, j - upper), min(n, j + lower)
                   band(upper + 1 + i - j, j) = (shifted(i) - base(i))/increment(j)
@@ -596,7 +734,11 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      call dense_differences(self, .true., t, u, jac)
+      if (self%probing) then
+         self%default_met = .true.
+         return
+      end if
+      call dense_differences(self, difference_f, t, u, jac)
    end subroutine fd_jac_f
 
    !> Forward-difference Jacobian of g.
@@ -605,48 +747,58 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      call dense_differences(self, .false., t, u, jac)
+      if (self%probing) then
+         self%default_met = .true.
+         return
+      end if
+      call dense_differences(self, difference_g, t, u, jac)
    end subroutine fd_jac_g
 
-   !> Column-by-column forward differences of f (`of_f`) or g, with the
+   !> Column-by-column forward differences of f, g or F = f + g (`part`), with the
    !> increment sqrt(eps) * max(|u_j|, 1) that balances truncation and roundoff.
-   subroutine dense_differences(self, of_f, t, u, jac)
+   subroutine dense_differences(self, part, t, u, jac, value)
       !> The problem
       class(ode_problem), intent(inout) :: self
-      !> Of f (true) or of g
-      logical, intent(in) :: of_f
+      !> difference_f, difference_g or difference_rhs
+      integer, intent(in) :: part
       !> Time
       real(dp), intent(in) :: t
       !> State
       real(dp), intent(in) :: u(:)
       !> Jacobian, size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
+      !> The part at (t, u) when the caller has it (one evaluation fewer)
+      real(dp), intent(in), optional :: value(:)
       real(dp) :: increment
       integer :: j
       if (.not. workspace_ready(self, size(u), jac)) return
       associate (base => self%differences%base, shifted => self%differences%shifted, &
          probe => self%differences%probe)
-         call evaluate_part(self, of_f, t, u, base)
+         if (present(value)) then
+            base = value
+         else
+            call evaluate_part(self, part, t, u, base)
+         end if
          probe = u
          do j = 1, size(u)
             increment = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
             probe(j) = u(j) + increment
             increment = probe(j) - u(j)
-            call evaluate_part(self, of_f, t, probe, shifted)
+            call evaluate_part(self, part, t, probe, shifted)
             jac(:, j) = (shifted - base)/increment
             probe(j) = u(j)
          end do
       end associate
    end subroutine dense_differences
 
-   !> (part(t, u + e v) - part(t, u))/e for f (`of_f`) or g, with the increment
+   !> (part(t, u + e v) - part(t, u))/e for f or g (`part`), with the increment
    !> e = sqrt(eps) max(|u|_max, 1)/|v|_max taken from the whole state (through
    !> `reduce`), so that every process perturbs its part by the same e.
-   subroutine directional_difference(self, of_f, t, u, v, jv)
+   subroutine directional_difference(self, part, t, u, v, jv)
       !> The problem
       class(ode_problem), intent(inout) :: self
-      !> Of f (true) or of g
-      logical, intent(in) :: of_f
+      !> difference_f or difference_g
+      integer, intent(in) :: part
       !> Time
       real(dp), intent(in) :: t
       !> State and direction
@@ -669,24 +821,27 @@ contains
       if (.not. workspace_ready(self, size(u), jv)) return
       associate (base => self%differences%base, probe => self%differences%probe)
          probe = u + increment*v
-         call evaluate_part(self, of_f, t, u, base)
-         call evaluate_part(self, of_f, t, probe, jv)
+         call evaluate_part(self, part, t, u, base)
+         call evaluate_part(self, part, t, probe, jv)
          jv = (jv - base)/increment
       end associate
    end subroutine directional_difference
 
-   !> f(t, state) when `of_f`, else g(t, state).
-   subroutine evaluate_part(problem, of_f, t, state, value)
+   !> f(t, state), g(t, state) or F(t, state) = `rhs` as `part` says.
+   subroutine evaluate_part(problem, part, t, state, value)
       class(ode_problem), intent(inout) :: problem
-      logical, intent(in) :: of_f
+      integer, intent(in) :: part
       real(dp), intent(in) :: t
       real(dp), intent(in) :: state(:)
       real(dp), intent(out) :: value(:)
-      if (of_f) then
+      select case (part)
+      case (difference_f)
          call problem%f(t, state, value)
-      else
+      case (difference_g)
          call problem%g(t, state, value)
-      end if
+      case default
+         call problem%rhs(t, state, value)
+      end select
    end subroutine evaluate_part
 
 end module taylorode_problem_ode

@@ -79,7 +79,7 @@ module taylorode_schemes_radau5
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver, finite_diagonal
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
-   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_max_order
+   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_solve_pair, small_lu_max_order
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
@@ -138,13 +138,17 @@ module taylorode_schemes_radau5
       class(matrix_type), allocatable :: jac
       !> (gamma/h) I - J and its factors (band, or dense above small_lu_max_order)
       type(linear_solver_type) :: real_solver
-      !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order
+      !> (gamma/h) I - J and its factors for dense systems up to small_lu_max_order, and
+      !> the reciprocals of its pivots
       real(dp), allocatable :: small_matrix(:, :), small_inverse_diagonal(:)
-      !> Row interchanges of the small dense factorization
-      integer, allocatable :: small_pivots(:)
+      !> ((alpha + i beta)/h) I - J and its factors for those systems, and the
+      !> reciprocals of its pivots
+      complex(dp), allocatable :: small_complex(:, :), small_complex_inverse_diagonal(:)
+      !> Row interchanges of the two small dense factorizations
+      integer, allocatable :: small_pivots(:), small_complex_pivots(:)
       !> Whether the small dense path is used
       logical :: small = .false.
-      !> ((alpha + i beta)/h) I - J and its factors
+      !> ((alpha + i beta)/h) I - J and its factors (band, or dense above small_lu_max_order)
       type(complex_solver_type) :: complex_solver
       !> The problem's constant mass matrix M (with `with_mass`), in the Jacobian's storage
       class(matrix_type), allocatable :: mass
@@ -153,14 +157,15 @@ module taylorode_schemes_radau5
       !> Whether the problem has a mass matrix, and whether M has been asked for since
       !> the restart
       logical :: with_mass = .false., mass_loaded = .false.
-      !> Stage increments Z (n x 3), transformed W = T^(-1) Z, and F at the stages, then
-      !> the Newton right-hand sides and increments of W
-      real(dp), allocatable :: z(:, :), w(:, :), r(:, :)
+      !> Stage increments Z (n x 3) and transformed W = T^(-1) Z. Within a Newton
+      !> iteration z holds F at the stages, then the right-hand sides and increments of W
+      !> (Z = T W follows); after the last one w holds the error estimate (column 1) and
+      !> its stage part (column 2), as RADAU5 reuses Z and F
+      real(dp), allocatable :: z(:, :), w(:, :)
       !> Collocation polynomial of the last accepted step
       real(dp), allocatable :: polynomial(:, :)
-      !> State at the start of the step, F there, a stage state, the estimate and its
-      !> filtered right-hand side part
-      real(dp), allocatable :: u_start(:), rhs0(:), stage(:), estimate(:), stage_part(:)
+      !> State at the start of the step, F there, a stage state
+      real(dp), allocatable :: u_start(:), rhs0(:), stage(:)
       !> Start of the current step
       real(dp) :: t_start = 0.0_dp
       !> Step sizes of the polynomial and of the stages in z, and the one the
@@ -337,31 +342,36 @@ contains
       resized = self%resize(problem, n, stat)
       if (stat%code /= status_ok) return
       if (resized) then
+         self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
          call new_matrix(self%jac, n, self%structure, stat)
-         if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
-         if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+         if (self%small) then
+            ! both factorizations are kept here
+            self%real_solver = linear_solver_type()
+            self%complex_solver = complex_solver_type()
+         else
+            if (stat%code == status_ok) call new_linear_solver(self%real_solver, n, self%structure, stat)
+            if (stat%code == status_ok) call new_complex_solver(self%complex_solver, n, self%structure, stat)
+         end if
          if (stat%code /= status_ok) then
             self%n = 0
             return
          end if
-         self%small = self%structure%storage == storage_dense .and. n <= small_lu_max_order
          call sized(self%z, n, 3, what, stat)
          call sized(self%w, n, 3, what, stat)
-         call sized(self%r, n, 3, what, stat)
          call sized(self%polynomial, n, 3, what, stat)
          call sized(self%u_start, n, what, stat)
          call sized(self%rhs0, n, what, stat)
          call sized(self%stage, n, what, stat)
-         call sized(self%estimate, n, what, stat)
-         call sized(self%stage_part, n, what, stat)
          if (stat%code /= status_ok) then
             self%n = 0
             return
          end if
          ! (at most small_lu_max_order: a few kilobytes)
          if (allocated(self%small_matrix)) deallocate (self%small_matrix, self%small_pivots, &
-            self%small_inverse_diagonal)
-         if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n))
+            self%small_inverse_diagonal, self%small_complex, self%small_complex_pivots, &
+            self%small_complex_inverse_diagonal)
+         if (self%small) allocate (self%small_matrix(n, n), self%small_pivots(n), self%small_inverse_diagonal(n), &
+            self%small_complex(n, n), self%small_complex_pivots(n), self%small_complex_inverse_diagonal(n))
          if (allocated(self%mass)) deallocate (self%mass)
          call self%restart()
       end if
@@ -411,7 +421,14 @@ contains
       if (self%with_mass .and. .not. self%mass_loaded) call load_mass(self, problem)
       call begin_step()
       if (.not. self%jacobian_valid) then
-         call evaluate_jac(problem, t, u0, self%jac, self%counters, stat)
+         ! F(t, u0), which the error estimate needs, first: a difference Jacobian starts from
+         ! it (as RADAU5's does from F(X, Y))
+         if (present(delta)) call evaluate_rhs0(self, problem, t)
+         if (self%rhs0_valid) then
+            call evaluate_jac(problem, t, u0, self%jac, self%counters, stat, self%rhs0)
+         else
+            call evaluate_jac(problem, t, u0, self%jac, self%counters, stat)
+         end if
          if (stat%code /= status_ok) then
             u1 = u0
             return
@@ -442,7 +459,7 @@ contains
       self%have_stages = .true.
       if (present(delta)) then
          call estimate_error(self, problem, t, h, stat)
-         delta = self%estimate
+         delta = self%w(:, 1)
       end if
 
    contains
@@ -482,51 +499,65 @@ contains
    end subroutine radau_advance
 
    !> Factor (gamma/h) I - J and ((alpha + i beta)/h) I - J (M instead of I with a mass
-   !> matrix).
+   !> matrix); small dense systems form both from J in one pass and factor them here.
    subroutine factor_matrices(self, h, stat)
       type(radau5_type), intent(inout) :: self
       real(dp), intent(in) :: h
       type(status_type), intent(inout) :: stat
       integer :: info, i, j
+      real(dp) :: entry, fac1
+      complex(dp) :: shift
 
       self%factored = .false.
+      fac1 = real_eigenvalue/h
+      shift = cmplx(alpha/h, beta/h, dp)
       if (self%small) then
          select type (jac => self%jac)
          type is (dense_matrix_type)
             do j = 1, self%n
                do i = 1, self%n
-                  self%small_matrix(i, j) = -jac%a(i, j)
+                  entry = -jac%a(i, j)
+                  self%small_matrix(i, j) = entry
+                  self%small_complex(i, j) = cmplx(entry, 0.0_dp, dp)
                end do
-               if (.not. self%with_mass) self%small_matrix(j, j) = self%small_matrix(j, j) + real_eigenvalue/h
+               if (.not. self%with_mass) then
+                  self%small_matrix(j, j) = self%small_matrix(j, j) + fac1
+                  self%small_complex(j, j) = self%small_complex(j, j) + shift
+               end if
             end do
          end select
          if (self%with_mass) then
             select type (mass => self%mass)
             type is (dense_matrix_type)
-               self%small_matrix = self%small_matrix + (real_eigenvalue/h)*mass%a
+               self%small_matrix = self%small_matrix + fac1*mass%a
+               self%small_complex = self%small_complex + shift*mass%a
             end select
          end if
          call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
+         if (info /= 0) then
+            call set_code(stat, status_singular_matrix)
+            return
+         end if
+         call small_lu_factor(self%small_complex, self%small_complex_pivots, info, self%small_complex_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
-         ! a Jacobian that is NaN or Inf leaves NaN or Inf among the pivots (see
-         ! linear_solver_type%factor)
+         ! an overflow in the elimination (see linear_solver_type%factor)
          if (.not. finite_diagonal(self%small_matrix)) call set_code(stat, status_nonfinite)
       else
          call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
          if (self%with_mass) then
-            call self%real_solver%matrix%add_scaled(real_eigenvalue/h, self%mass, stat)
+            call self%real_solver%matrix%add_scaled(fac1, self%mass, stat)
          else
-            call self%real_solver%matrix%add_identity(real_eigenvalue/h)
+            call self%real_solver%matrix%add_identity(fac1)
          end if
          if (stat%code == status_ok) call self%real_solver%factor(stat)
+         if (stat%code /= status_ok) return
+         if (self%with_mass) then
+            call self%complex_solver%assemble(shift, self%jac, stat, self%mass)
+         else
+            call self%complex_solver%assemble(shift, self%jac, stat)
+         end if
+         if (stat%code == status_ok) call self%complex_solver%factor(stat)
       end if
-      if (stat%code /= status_ok) return
-      if (self%with_mass) then
-         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat, self%mass)
-      else
-         call self%complex_solver%assemble(cmplx(alpha/h, beta/h, dp), self%jac, stat)
-      end if
-      if (stat%code == status_ok) call self%complex_solver%factor(stat)
       self%counters%lu_factorizations = self%counters%lu_factorizations + 1
       if (stat%code /= status_ok) return
       self%factored = .true.
@@ -569,7 +600,9 @@ contains
       u0 => self%u_start
       z => self%z
       w => self%w
-      r => self%r
+      ! F at the stages, the right-hand sides and the increments go where Z was: Z is
+      ! T W again at the end of each iteration
+      r => self%z
       stage => self%stage
       ! W in the Newton right-hand sides, or M W with a mass matrix
       wm => self%w
@@ -618,7 +651,8 @@ contains
             call fail(status_newton_not_converged)
             return
          end if
-         ! F = f + g at the three stages (the problem's rhs, called directly)
+         ! F = f + g at the three stages (the problem's rhs, called directly), each into
+         ! its stage's column of z once the stage state is formed
          do s = 1, 3
             do i = 1, n
                stage(i) = u0(i) + z(i, s)
@@ -654,11 +688,13 @@ contains
             return
          end if
          if (self%small) then
-            call small_lu_solve(self%small_matrix, self%small_pivots, r(:, 1), self%small_inverse_diagonal)
+            call small_lu_solve_pair(self%small_matrix, self%small_pivots, self%small_inverse_diagonal, &
+               self%small_complex, self%small_complex_pivots, self%small_complex_inverse_diagonal, &
+               r(:, 1), r(:, 2), r(:, 3))
          else
             call self%real_solver%solve(r(:, 1), stat)
+            if (stat%code == status_ok) call self%complex_solver%solve_parts(r(:, 2), r(:, 3), stat)
          end if
-         if (stat%code == status_ok) call self%complex_solver%solve_parts(r(:, 2), r(:, 3), stat)
          if (stat%code /= status_ok) return
          newt = newt + 1
          self%counters%newton_iterations = self%counters%newton_iterations + 1
@@ -668,10 +704,13 @@ contains
          dyno = 0.0_dp
          do i = 1, n
             inverse = 1.0_dp/tolerance(i)
-            dyno = dyno + (r(i, 1)*inverse)**2 + (r(i, 2)*inverse)**2 + (r(i, 3)*inverse)**2
-            f1 = w(i, 1) + r(i, 1)
-            f2 = w(i, 2) + r(i, 2)
-            f3 = w(i, 3) + r(i, 3)
+            z1 = r(i, 1)
+            z2 = r(i, 2)
+            z3 = r(i, 3)
+            dyno = dyno + (z1*inverse)**2 + (z2*inverse)**2 + (z3*inverse)**2
+            f1 = w(i, 1) + z1
+            f2 = w(i, 2) + z2
+            f3 = w(i, 3) + z3
             w(i, 1) = f1
             w(i, 2) = f2
             w(i, 3) = f3
@@ -765,32 +804,44 @@ contains
       integer :: i
       real(dp) :: hee1, hee2, hee3
 
-      if (.not. self%rhs0_valid) then
-         call problem%rhs(t, self%u_start, self%rhs0)
-         self%counters%f_evaluations = self%counters%f_evaluations + 1
-         self%counters%g_evaluations = self%counters%g_evaluations + 1
-         self%rhs0_valid = .true.
-      end if
+      call evaluate_rhs0(self, problem, t)
       hee1 = dd1/h
       hee2 = dd2/h
       hee3 = dd3/h
-      if (self%with_mass) then
+      ! W is done with once the stages have converged: the estimate and its stage part
+      ! go into its first two columns
+      associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
+         if (self%with_mass) then
+            do i = 1, self%n
+               self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+               stage_part(i) = 0.0_dp
+            end do
+            call self%mass%multiply_add(1.0_dp, self%stage, stage_part)
+         else
+            do i = 1, self%n
+               stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
+            end do
+         end if
          do i = 1, self%n
-            self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
-            self%stage_part(i) = 0.0_dp
+            estimate(i) = stage_part(i) + self%rhs0(i)
          end do
-         call self%mass%multiply_add(1.0_dp, self%stage, self%stage_part)
-      else
-         do i = 1, self%n
-            self%stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
-         end do
-      end if
-      do i = 1, self%n
-         self%estimate(i) = self%stage_part(i) + self%rhs0(i)
-      end do
-      call solve_real(self, self%estimate, stat)
+         call solve_real(self, estimate, stat)
+      end associate
       self%counters%linear_solves = self%counters%linear_solves + 1
    end subroutine estimate_error
+
+   !> F(t, U0) at the start of the step into rhs0, unless it is there already (kept
+   !> only when the problem accepted the evaluation).
+   subroutine evaluate_rhs0(self, problem, t)
+      type(radau5_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t
+      if (self%rhs0_valid) return
+      call problem%rhs(t, self%u_start, self%rhs0)
+      self%counters%f_evaluations = self%counters%f_evaluations + 1
+      self%counters%g_evaluations = self%counters%g_evaluations + 1
+      self%rhs0_valid = .not. problem%evaluation_rejected()
+   end subroutine evaluate_rhs0
 
    !> RADAU5's second estimate when the first fails the error test at the first step or
    !> on a retry: delta = ((gamma/h) I - J)^(-1) [F(t0, U0 + delta) + (d1 Z1 + d2 Z2 +
@@ -811,15 +862,18 @@ contains
       do i = 1, self%n
          self%stage(i) = self%u_start(i) + delta(i)
       end do
-      call problem%rhs(t, self%stage, self%estimate)
-      self%counters%f_evaluations = self%counters%f_evaluations + 1
-      self%counters%g_evaluations = self%counters%g_evaluations + 1
-      do i = 1, self%n
-         self%estimate(i) = self%estimate(i) + self%stage_part(i)
-      end do
-      call solve_real(self, self%estimate, stat)
-      self%counters%linear_solves = self%counters%linear_solves + 1
-      delta = self%estimate
+      ! the stage part of the first estimate is still in w(:, 2)
+      associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
+         call problem%rhs(t, self%stage, estimate)
+         self%counters%f_evaluations = self%counters%f_evaluations + 1
+         self%counters%g_evaluations = self%counters%g_evaluations + 1
+         do i = 1, self%n
+            estimate(i) = estimate(i) + stage_part(i)
+         end do
+         call solve_real(self, estimate, stat)
+         self%counters%linear_solves = self%counters%linear_solves + 1
+         delta = estimate
+      end associate
    end subroutine radau_refine_estimate
 
 end module taylorode_schemes_radau5

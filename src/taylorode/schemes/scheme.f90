@@ -589,9 +589,9 @@ contains
    end subroutine evaluate_jac_f
 
    !> Counted evaluation of J = df/dU + dg/dU in one call (the problem's `jac`, or
-   !> `jac_band`), dense or in band storage, checked for NaN and Inf; it counts as one
-   !> evaluation of each.
-   subroutine evaluate_jac(problem, t, u, jac, counters, stat)
+   !> `jac_band`; `jac_with_rhs`, `jac_band_with_rhs` when F(t, u) is given), dense or in
+   !> band storage, checked for NaN and Inf; it counts as one evaluation of each.
+   subroutine evaluate_jac(problem, t, u, jac, counters, stat, rhs_value)
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Time
@@ -604,11 +604,21 @@ contains
       type(counters_type), intent(inout) :: counters
       !> status_nonfinite when an entry is NaN or Inf
       type(status_type), intent(inout) :: stat
+      !> F(t, u), when the caller has it (a difference Jacobian then starts from it)
+      real(dp), intent(in), optional :: rhs_value(:)
       select type (jac)
       type is (dense_matrix_type)
-         call problem%jac(t, u, jac%a)
+         if (present(rhs_value)) then
+            call problem%jac_with_rhs(t, u, rhs_value, jac%a)
+         else
+            call problem%jac(t, u, jac%a)
+         end if
       type is (band_matrix_type)
-         call problem%jac_band(t, u, jac%ab(jac%fill + 1:, :))
+         if (present(rhs_value)) then
+            call problem%jac_band_with_rhs(t, u, rhs_value, jac%ab(jac%fill + 1:, :))
+         else
+            call problem%jac_band(t, u, jac%ab(jac%fill + 1:, :))
+         end if
       end select
       counters%jac_f_evaluations = counters%jac_f_evaluations + 1
       counters%jac_g_evaluations = counters%jac_g_evaluations + 1

@@ -24,6 +24,8 @@ module taylorode_testset_brusselator
       procedure :: f => brusselator_f
       !> Stiff part g
       procedure :: g => brusselator_g
+      !> F = f + g in one pass (no work array of n values, one loop instead of three)
+      procedure :: rhs => brusselator_rhs
       !> df/dU, analytic and dense: the schemes call it only for N = 1, where the band covers the whole matrix
       procedure :: jac_f => brusselator_jac_f
       !> dg/dU, analytic and dense (see jac_f)
@@ -101,6 +103,37 @@ contains
          end do
       end do
    end subroutine brusselator_g
+
+   !> F = f + g: for each point and species the terms of f and of g as brusselator_f
+   !> and brusselator_g compute them, added (the same numbers as f, then g added).
+   subroutine brusselator_rhs(self, t, u, dudt)
+      class(brusselator_type), intent(inout) :: self
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: dudt(:)
+      real(dp) :: c, uuv, reaction(2), left, right
+      integer :: i, species
+      real(dp), parameter :: boundary(2) = [1.0_dp, 3.0_dp]
+      c = self%alpha*real(self%points + 1, dp)**2
+      do i = 1, self%points
+         uuv = u(2*i - 1)**2*u(2*i)
+         reaction(1) = 1.0_dp + uuv - 4.0_dp*u(2*i - 1)
+         reaction(2) = 3.0_dp*u(2*i - 1) - uuv
+         do species = 1, 2
+            if (i > 1) then
+               left = u(2*(i - 1) + species - 2)
+            else
+               left = boundary(species)
+            end if
+            if (i < self%points) then
+               right = u(2*(i + 1) + species - 2)
+            else
+               right = boundary(species)
+            end if
+            dudt(2*i + species - 2) = reaction(species) + c*(left - 2.0_dp*u(2*i + species - 2) + right)
+         end do
+      end do
+   end subroutine brusselator_rhs
 
    subroutine brusselator_jac_f(self, t, u, jac)
       class(brusselator_type), intent(inout) :: self
