@@ -6,6 +6,7 @@ module test_problems
       integrate_fixed, status_ok, integrate, integrator_options_type, integration_stats_type, &
       matrix_structure_type, dense_structure
    use test_support, only: differenced_brusselator
+   use taylorode_base_strings, only: format_integer
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, vdp_split_paper, vdp_split_stiff, &
       linear_test_type, van_der_pol_initial_state, vdp_ic_prepared, test_problem_type, new_test_problem, &
       test_problem_names, test_problem_count, brusselator_type, new_brusselator, orego_type, new_orego, &
@@ -238,12 +239,16 @@ contains
    !> radau5 on HIRES and the Brusselator (band) without analytic Jacobians: every
    !> evaluation is one of F (n, or lower + upper + 1, per Jacobian beside the scheme's
    !> own: the differences start from F at the step's start, which the scheme evaluates
-   !> anyway; the first Jacobian, which finds how J is formed, one more), and the run takes
+   !> anyway; the first Jacobian, which finds how J is formed, at most one more), and the run takes
    !> as many steps as with the analytic Jacobians (within 5 %) to a final state as close
-   !> to the tight reference.
+   !> to the tight reference. Also Robertson to t = 1e11, where y1 and y2 fall to 1e-10
+   !> and below: with the increment sqrt(eps) max(|u_j|, 1), which swamps them, radau5
+   !> took 85 times the steps at rtol 1e-6 (and through the legacy entry ran out of
+   !> RADAU5's budget at 1e-7 and tighter); RADAU5's increment, sqrt(eps max(|u_j|,
+   !> 1e-5)), is the library's now.
    subroutine test_radau5_without_jacobians(error)
       type(error_type), allocatable, intent(out) :: error
-      character(len=*), parameter :: names(2) = [character(len=11) :: "hires", "brusselator"]
+      character(len=*), parameter :: names(3) = [character(len=11) :: "hires", "brusselator", "robertson"]
       type(counted_without_jacobians) :: problem
       class(test_problem_type), allocatable :: analytic
       class(scheme_type), allocatable :: scheme
@@ -256,6 +261,7 @@ contains
 
       do k = 1, size(names)
          call new_test_problem(trim(names(k)), analytic, stat)
+         if (names(k) == "robertson") analytic%t_end = 1.0e11_dp
          if (allocated(problem%model)) deallocate (problem%model)
          allocate (problem%model, source=analytic)
          problem%rhs_calls = 0
@@ -282,12 +288,21 @@ contains
          if (allocated(error)) return
          call check(error, problem%f_calls + problem%g_calls, 0, trim(names(k))//": evaluations of f or g alone")
          if (allocated(error)) return
-         call check(error, int(problem%rhs_calls, kind(stats%work%f_evaluations)), &
-            stats%work%f_evaluations + per_jacobian*stats%work%jac_f_evaluations + 1, &
-            trim(names(k))//": evaluations of F beside the scheme's own")
+         ! (the first Jacobian, which finds how J is formed, takes one more when the
+         ! scheme has no F at the step's start to difference from)
+         call check(error, int(problem%rhs_calls, kind(stats%work%f_evaluations)) - &
+            (stats%work%f_evaluations + per_jacobian*stats%work%jac_f_evaluations) <= 1, &
+            trim(names(k))//": evaluations of F beside the scheme's own: "//format_integer(int(problem%rhs_calls))// &
+            " against "//format_integer(int(stats%work%f_evaluations))//" + "//format_integer(per_jacobian)//" x "// &
+            format_integer(int(stats%work%jac_f_evaluations))//" (+ 1)")
          if (allocated(error)) return
+         ! (Robertson to 1e11: differences of a J whose entries span 1e-10 ... 1e4 cost
+         ! Newton some contraction, 485 steps against 388; 32,917 with the old increment;
+         ! Hairer's RADAU5 with IJAC = 0 also takes 1.1-2 times its steps with IJAC = 1)
          call check(error, abs(stats%accepted_steps - stats_analytic%accepted_steps) <= &
-            0.05_dp*stats_analytic%accepted_steps, trim(names(k))//": accepted steps")
+            merge(0.3_dp, 0.05_dp, names(k) == "robertson")*stats_analytic%accepted_steps, &
+            trim(names(k))//": accepted steps "// &
+            format_integer(int(stats%accepted_steps))//" against "//format_integer(int(stats_analytic%accepted_steps)))
          if (allocated(error)) return
          error_d = maxval(abs(u - reference)/(1.0e-6_dp*analytic%atol/analytic%rtol + 1.0e-6_dp*abs(reference)))
          error_a = maxval(abs(u_analytic - reference)/(1.0e-6_dp*analytic%atol/analytic%rtol + &

@@ -43,6 +43,10 @@ module taylorode_problem_ode
    integer, parameter :: difference_g = 2
    !> What a difference Jacobian differences: F = f + g, one call of `rhs` per perturbation
    integer, parameter :: difference_rhs = 3
+   !> The increment of a difference Jacobian in column j is sqrt(eps max(|u_j|, this)),
+   !> RADAU5's: a component far below 1 (a concentration of 1e-10) is perturbed by a
+   !> fraction of its size, not by sqrt(eps) itself, which swamps it
+   real(dp), parameter :: difference_floor = 1.0e-5_dp
 
    !> How the default `jac` and `jac_band` form J: not yet known (before their first call),
    !> by differences of F (both part Jacobians are the default differences), or from the
@@ -714,7 +718,7 @@ contains
          do group = 1, min(width, n)
             probe = u
             do j = group, n, width
-               increment(j) = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
+               increment(j) = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
                probe(j) = u(j) + increment(j)
                increment(j) = probe(j) - u(j)
             end do
@@ -755,7 +759,7 @@ contains
    end subroutine fd_jac_g
 
    !> Column-by-column forward differences of f, g or F = f + g (`part`), with the
-   !> increment sqrt(eps) * max(|u_j|, 1) that balances truncation and roundoff.
+   !> increment sqrt(eps max(|u_j|, 1e-5)) (RADAU5's; see difference_floor).
    subroutine dense_differences(self, part, t, u, jac, value)
       !> The problem
       class(ode_problem), intent(inout) :: self
@@ -781,7 +785,7 @@ contains
          end if
          probe = u
          do j = 1, size(u)
-            increment = sqrt(epsilon(1.0_dp))*max(abs(u(j)), 1.0_dp)
+            increment = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
             probe(j) = u(j) + increment
             increment = probe(j) - u(j)
             call evaluate_part(self, part, t, probe, shifted)
