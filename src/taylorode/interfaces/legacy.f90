@@ -48,7 +48,6 @@ module taylorode_interfaces_legacy
    use taylorode_integrate_integrator, only: integrator_type
    use taylorode_integrate_step, only: accepted_step_type, newton_form, hermite_degree
    use taylorode_integrate_observer, only: step_observer_type
-   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_f_pointer, c_null_ptr
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
    implicit none
    private
@@ -142,8 +141,10 @@ module taylorode_interfaces_legacy
       logical :: has_f = .false., has_jac_f = .false., has_jac_g = .false.
       !> Structure of the Jacobians the user gives (dense unless bandwidths are set)
       type(matrix_structure_type) :: structure
-      !> The user's RPAR and IPAR, passed through
-      type(c_ptr) :: rpar = c_null_ptr, ipar = c_null_ptr
+      !> The user's RPAR and IPAR, passed through (views of their first entries, IPAR's up
+      !> to the evaluation flag: contiguous, so that they reach the F77 routines as they are)
+      real(dp), pointer, contiguous :: rpar(:) => null()
+      integer, pointer, contiguous :: ipar(:) => null()
       !> IPAR(flag) is the evaluation flag (0: none)
       integer :: flag = 0
       !> The user's MAS, and the bandwidths of M as it gives it (n, n: dense)
@@ -172,7 +173,9 @@ module taylorode_interfaces_legacy
    !> SOLOUT after every accepted step
    type, extends(step_observer_type) :: legacy_observer_type
       procedure(solout_interface), pointer, nopass :: solout => null()
-      type(c_ptr) :: rpar = c_null_ptr, ipar = c_null_ptr
+      !> The user's RPAR and IPAR (as legacy_problem_type keeps them)
+      real(dp), pointer, contiguous :: rpar(:) => null()
+      integer, pointer, contiguous :: ipar(:) => null()
       integer :: calls = 0
       !> The step for TAYLORODE_CONTR: t_start, h, n, the degree d of the dense output, its
       !> nodes (room for max_degree) and coefficient columns 0 .. d (n each)
@@ -280,8 +283,8 @@ contains
       if (problem%has_jac_f) problem%jac_f_user => jac_f
       if (problem%has_jac_g) problem%jac_g_user => jac_g
       if (mljac < n) problem%structure = band_structure(mljac, mujac)
-      problem%rpar = c_loc(rpar(1))
-      problem%ipar = c_loc(ipar(1))
+      problem%rpar => rpar(1:1)
+      problem%ipar => ipar(1:max(1, iwork(11)))
       problem%flag = iwork(11)
       allocate (problem%x_state(n), stat=memory)
       if (has_f .and. memory == 0) then
@@ -317,8 +320,8 @@ contains
       if (stat%code == status_ok) then
          if (iout /= 0) then
             observer%solout => solout
-            observer%rpar = problem%rpar
-            observer%ipar = problem%ipar
+            observer%rpar => problem%rpar
+            observer%ipar => problem%ipar
             observer%max_degree = max(hermite_degree, scheme%dense_degree)
             allocate (observer%cont(4 + observer%max_degree + n*(observer%max_degree + 1)), observer%y_copy(n), &
                source=0.0_dp, stat=memory)
@@ -643,8 +646,6 @@ contains
       real(dp), intent(in) :: x, y(:)
       integer, intent(in) :: n
       real(dp) :: x_copy
-      real(dp), pointer, contiguous :: rpar(:)
-      integer, pointer, contiguous :: ipar(:)
       integer :: irtrn, nr, lrc, n_copy
       x_copy = x
       self%y_copy = y
@@ -655,9 +656,7 @@ contains
       lrc = size(self%cont)
       n_copy = n
       irtrn = 0
-      call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [1])
-      call self%solout(nr, x_copy, x_copy, self%y_copy, self%cont, lrc, n_copy, rpar, ipar, irtrn)
+      call self%solout(nr, x_copy, x_copy, self%y_copy, self%cont, lrc, n_copy, self%rpar, self%ipar, irtrn)
       self%stopped = irtrn < 0
    end subroutine start_solout
 
@@ -665,8 +664,6 @@ contains
       class(legacy_observer_type), intent(inout) :: self
       type(accepted_step_type), intent(in) :: step
       logical, intent(inout) :: stop
-      real(dp), pointer, contiguous :: rpar(:)
-      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x_old, x_new
       integer :: irtrn, n, lrc, nr, first, k
       n = size(step%u_end)
@@ -684,9 +681,7 @@ contains
       x_new = step%t_end
       self%y_copy = step%u_end
       irtrn = 0
-      call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [1])
-      call self%solout(nr, x_old, x_new, self%y_copy, self%cont, lrc, n, rpar, ipar, irtrn)
+      call self%solout(nr, x_old, x_new, self%y_copy, self%cont, lrc, n, self%rpar, self%ipar, irtrn)
       if (irtrn < 0) then
          self%stopped = .true.
          stop = .true.
@@ -722,21 +717,17 @@ contains
       procedure(fcn_interface) :: fcn
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp), pointer, contiguous :: rpar(:)
-      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: n
-      call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [max(1, self%flag)])
       x = t
       n = size(u)
       self%x_state = u
-      if (self%flag > 0) ipar(self%flag) = 0
-      call fcn(n, x, self%x_state, dudt, rpar, ipar)
+      if (self%flag > 0) self%ipar(self%flag) = 0
+      call fcn(n, x, self%x_state, dudt, self%rpar, self%ipar)
       if (self%flag > 0) then
-         call read_flag(self, ipar(self%flag))
+         call read_flag(self, self%ipar(self%flag))
          ! the values of a refused evaluation are not used; no NaN is left behind
-         if (ipar(self%flag) /= 0) dudt = 0.0_dp
+         if (self%ipar(self%flag) /= 0) dudt = 0.0_dp
       end if
    end subroutine call_fcn
 
@@ -748,21 +739,17 @@ contains
       ! not contiguous: gfortran then copies even a contiguous actual argument; passed on
       ! to the user's explicit-shape DFY it is copied only when it is not contiguous
       real(dp), intent(out) :: jac(:, :)
-      real(dp), pointer, contiguous :: rpar(:)
-      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: n, ldfy
-      call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [max(1, self%flag)])
       x = t
       n = size(u)
       ldfy = size(jac, 1)
       self%x_state = u
-      if (self%flag > 0) ipar(self%flag) = 0
-      call jac_user(n, x, self%x_state, jac, ldfy, rpar, ipar)
+      if (self%flag > 0) self%ipar(self%flag) = 0
+      call jac_user(n, x, self%x_state, jac, ldfy, self%rpar, self%ipar)
       if (self%flag > 0) then
-         call read_flag(self, ipar(self%flag))
-         if (ipar(self%flag) /= 0) jac = 0.0_dp
+         call read_flag(self, self%ipar(self%flag))
+         if (self%ipar(self%flag) /= 0) jac = 0.0_dp
       end if
    end subroutine call_jac
 
@@ -798,8 +785,6 @@ contains
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp), pointer, contiguous :: rpar(:)
-      integer, pointer, contiguous :: ipar(:)
       real(dp) :: x
       integer :: i, n
       if (self%has_f .or. self%flag > 0) then
@@ -811,14 +796,12 @@ contains
          end do
          return
       end if
-      call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [1])
       x = t
       n = size(u)
       do i = 1, n
          self%x_state(i) = u(i)
       end do
-      call self%fcn_g(n, x, self%x_state, dudt, rpar, ipar)
+      call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
    end subroutine legacy_rhs
 
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
@@ -984,15 +967,11 @@ contains
    !> The user's MAS(N, AM, LMAS, RPAR, IPAR) into mass_work.
    subroutine call_mas(self)
       type(legacy_problem_type), intent(inout) :: self
-      real(dp), pointer, contiguous :: rpar(:)
-      integer, pointer, contiguous :: ipar(:)
       integer :: n, lmas
-      call c_f_pointer(self%rpar, rpar, [1])
-      call c_f_pointer(self%ipar, ipar, [1])
       n = size(self%mass_work, 2)
       lmas = size(self%mass_work, 1)
       self%mass_work = 0.0_dp
-      call self%mas(n, self%mass_work, lmas, rpar, ipar)
+      call self%mas(n, self%mass_work, lmas, self%rpar, self%ipar)
    end subroutine call_mas
 
    !> A MAS for calls without a mass matrix (TAYLORODE_SPLIT); never called.
