@@ -416,38 +416,7 @@ contains
       real(dp), intent(in) :: u(:)
       !> J(t, u), size(u) x size(u)
       real(dp), intent(out) :: jac(:, :)
-      logical :: f_differenced, g_differenced
-      type(status_type) :: stat
-
-      if (self%dense_parts == parts_differenced) then
-         call dense_differences(self, difference_rhs, t, u, jac)
-         return
-      end if
-      call sized(self%jacobian_work, size(jac, 1), size(jac, 2), "the problem's work matrix for dg/dU", stat)
-      if (.not. work_ready(self, stat, jac)) return
-      if (self%dense_parts == parts_own) then
-         call self%jac_f(t, u, jac)
-         call self%jac_g(t, u, self%jacobian_work)
-      else
-         self%probing = .true.
-         self%default_met = .false.
-         call self%jac_f(t, u, jac)
-         f_differenced = self%default_met
-         self%default_met = .false.
-         call self%jac_g(t, u, self%jacobian_work)
-         g_differenced = self%default_met
-         self%probing = .false.
-         self%default_met = .false.
-         if (f_differenced .and. g_differenced) then
-            self%dense_parts = parts_differenced
-            call dense_differences(self, difference_rhs, t, u, jac)
-            return
-         end if
-         self%dense_parts = parts_own
-         if (f_differenced) call dense_differences(self, difference_f, t, u, jac)
-         if (g_differenced) call dense_differences(self, difference_g, t, u, self%jacobian_work)
-      end if
-      jac = jac + self%jacobian_work
+      call sum_of_parts(self, .false., t, u, jac)
    end subroutine full_jacobian
 
    !> J = df/dU + dg/dU in band storage: jac_f_band, then jac_g_band into a work
@@ -463,39 +432,91 @@ contains
       real(dp), intent(in) :: u(:)
       !> Band storage, (lower + upper + 1) x size(u)
       real(dp), intent(out) :: band(:, :)
+      call sum_of_parts(self, .true., t, u, band)
+   end subroutine full_band_jacobian
+
+   !> full_jacobian (dense) and full_band_jacobian (banded): the part Jacobians added,
+   !> or differences of F once both are found to be the default differences; what was
+   !> found is kept per storage (dense_parts, band_parts).
+   subroutine sum_of_parts(self, banded, t, u, jac)
+      class(ode_problem), intent(inout) :: self
+      logical, intent(in) :: banded
+      real(dp), intent(in) :: t
+      real(dp), intent(in) :: u(:)
+      real(dp), intent(out) :: jac(:, :)
       logical :: f_differenced, g_differenced
+      integer :: parts
       type(status_type) :: stat
 
-      if (self%band_parts == parts_differenced) then
-         call band_differences(self, difference_rhs, t, u, band)
+      parts = merge(self%band_parts, self%dense_parts, banded)
+      if (parts == parts_differenced) then
+         call differences(difference_rhs, jac)
          return
       end if
-      call sized(self%jacobian_work, size(band, 1), size(band, 2), "the problem's work matrix for dg/dU", stat)
-      if (.not. work_ready(self, stat, band)) return
-      if (self%band_parts == parts_own) then
-         call self%jac_f_band(t, u, band)
-         call self%jac_g_band(t, u, self%jacobian_work)
+      call sized(self%jacobian_work, size(jac, 1), size(jac, 2), "the problem's work matrix for dg/dU", stat)
+      if (.not. work_ready(self, stat, jac)) return
+      if (parts == parts_own) then
+         call part_jacobian(.true., jac)
+         call part_jacobian(.false., self%jacobian_work)
       else
          self%probing = .true.
          self%default_met = .false.
-         call self%jac_f_band(t, u, band)
+         call part_jacobian(.true., jac)
          f_differenced = self%default_met
          self%default_met = .false.
-         call self%jac_g_band(t, u, self%jacobian_work)
+         call part_jacobian(.false., self%jacobian_work)
          g_differenced = self%default_met
          self%probing = .false.
          self%default_met = .false.
          if (f_differenced .and. g_differenced) then
-            self%band_parts = parts_differenced
-            call band_differences(self, difference_rhs, t, u, band)
+            call keep_parts(parts_differenced)
+            call differences(difference_rhs, jac)
             return
          end if
-         self%band_parts = parts_own
-         if (f_differenced) call band_differences(self, difference_f, t, u, band)
-         if (g_differenced) call band_differences(self, difference_g, t, u, self%jacobian_work)
+         call keep_parts(parts_own)
+         if (f_differenced) call differences(difference_f, jac)
+         if (g_differenced) call differences(difference_g, self%jacobian_work)
       end if
-      band = band + self%jacobian_work
-   end subroutine full_band_jacobian
+      jac = jac + self%jacobian_work
+
+   contains
+
+      !> df/dU (of_f) or dg/dU in the storage of the call
+      subroutine part_jacobian(of_f, matrix)
+         logical, intent(in) :: of_f
+         real(dp), intent(out) :: matrix(:, :)
+         if (banded .and. of_f) then
+            call self%jac_f_band(t, u, matrix)
+         else if (banded) then
+            call self%jac_g_band(t, u, matrix)
+         else if (of_f) then
+            call self%jac_f(t, u, matrix)
+         else
+            call self%jac_g(t, u, matrix)
+         end if
+      end subroutine part_jacobian
+
+      !> Differences of f, g or F (part) in the storage of the call
+      subroutine differences(part, matrix)
+         integer, intent(in) :: part
+         real(dp), intent(out) :: matrix(:, :)
+         if (banded) then
+            call band_differences(self, part, t, u, matrix)
+         else
+            call dense_differences(self, part, t, u, matrix)
+         end if
+      end subroutine differences
+
+      !> What the probe found, for the storage of the call
+      subroutine keep_parts(found)
+         integer, intent(in) :: found
+         if (banded) then
+            self%band_parts = found
+         else
+            self%dense_parts = found
+         end if
+      end subroutine keep_parts
+   end subroutine sum_of_parts
 
    !> J at (t, u) given F(t, u): differences of F from it once `jac` has found that both
    !> part Jacobians are the default differences (at its first call, made here when

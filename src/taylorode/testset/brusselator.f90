@@ -83,26 +83,35 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp) :: c, left, right
+      real(dp) :: c
       integer :: i, species
-      real(dp), parameter :: boundary(2) = [1.0_dp, 3.0_dp]
       c = self%alpha*real(self%points + 1, dp)**2
       do i = 1, self%points
          do species = 1, 2
-            if (i > 1) then
-               left = u(2*(i - 1) + species - 2)
-            else
-               left = boundary(species)
-            end if
-            if (i < self%points) then
-               right = u(2*(i + 1) + species - 2)
-            else
-               right = boundary(species)
-            end if
-            dudt(2*i + species - 2) = c*(left - 2.0_dp*u(2*i + species - 2) + right)
+            dudt(2*i + species - 2) = diffusion(self%points, c, u, i, species)
          end do
       end do
    end subroutine brusselator_g
+
+   !> The diffusion of species (1: u, 2: v) at point i, c (u_(i-1) - 2 u_i + u_(i+1)),
+   !> with the boundary values 1 and 3 beyond the ends: g's term, and F's
+   pure real(dp) function diffusion(points, c, u, i, species)
+      integer, intent(in) :: points, i, species
+      real(dp), intent(in) :: c, u(:)
+      real(dp), parameter :: boundary(2) = [1.0_dp, 3.0_dp]
+      real(dp) :: left, right
+      if (i > 1) then
+         left = u(2*(i - 1) + species - 2)
+      else
+         left = boundary(species)
+      end if
+      if (i < points) then
+         right = u(2*(i + 1) + species - 2)
+      else
+         right = boundary(species)
+      end if
+      diffusion = c*(left - 2.0_dp*u(2*i + species - 2) + right)
+   end function diffusion
 
    !> F = f + g: for each point and species the terms of f and of g as brusselator_f
    !> and brusselator_g compute them, added (the same numbers as f, then g added).
@@ -111,26 +120,15 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp) :: c, uuv, reaction(2), left, right
+      real(dp) :: c, uuv, reaction(2)
       integer :: i, species
-      real(dp), parameter :: boundary(2) = [1.0_dp, 3.0_dp]
       c = self%alpha*real(self%points + 1, dp)**2
       do i = 1, self%points
          uuv = u(2*i - 1)**2*u(2*i)
          reaction(1) = 1.0_dp + uuv - 4.0_dp*u(2*i - 1)
          reaction(2) = 3.0_dp*u(2*i - 1) - uuv
          do species = 1, 2
-            if (i > 1) then
-               left = u(2*(i - 1) + species - 2)
-            else
-               left = boundary(species)
-            end if
-            if (i < self%points) then
-               right = u(2*(i + 1) + species - 2)
-            else
-               right = boundary(species)
-            end if
-            dudt(2*i + species - 2) = reaction(species) + c*(left - 2.0_dp*u(2*i + species - 2) + right)
+            dudt(2*i + species - 2) = reaction(species) + diffusion(self%points, c, u, i, species)
          end do
       end do
    end subroutine brusselator_rhs
