@@ -11,6 +11,7 @@ module test_schemes
       scheme_count, integrate_fixed, status_ok, status_size_mismatch, status_invalid_argument, status_nonfinite, &
       status_unknown_scheme, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged
+   use taylorode_newton_solver, only: newton_settings_type
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -87,7 +88,8 @@ contains
          new_unittest("unknown-scheme", test_unknown_scheme), &
          new_unittest("bad-step-input", test_bad_step_input), &
          new_unittest("singular-newton-matrix", test_singular_newton), &
-         new_unittest("newton-divergence", test_newton_divergence) &
+         new_unittest("newton-divergence", test_newton_divergence), &
+         new_unittest("newton-first-increment-of-a-new-matrix", test_newton_first_increment) &
          ]
    end subroutine collect_schemes
 
@@ -494,6 +496,54 @@ contains
       if (allocated(error)) return
       call check(error, index(stat%message, "Newton") > 0, "message: "//stat_message(stat))
    end subroutine test_newton_divergence
+
+   !> i-t-2's Newton on a long step of Van der Pol (mu = 1000, h = 212 on the slow
+   !> branch, the tolerances of rtol = atol = 1e-2) from a guess a little off the slow
+   !> manifold, as an extrapolated guess is. The exact Newton matrix built there has a
+   !> second-derivative term F''[F] far too large in the slow direction (F is large off
+   !> the manifold), so the first increment, 2e-3 of the distance to the root in y, is
+   !> far within the tolerance: a stop test that took it as its own error estimate
+   !> returned a state 30 Newton tolerances from the root (4 tolerances of the step) with
+   !> status ok, and the integration ran half a relaxation late. Now the solve ends
+   !> within the Newton tolerance of the root, or fails (the step is then retried
+   !> shorter), never ok elsewhere. The root (numpy, Newton with the exact matrix from
+   !> the exact solution, residual 9e-9) is checked first: Newton stays there.
+   subroutine test_newton_first_increment(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(newton_settings_type) :: newton
+      type(status_type) :: stat
+      real(dp), parameter :: t0 = 220.04_dp, h = 212.2_dp
+      !> On the slow branch at t0, the solution at t0 + h, and the root of i-t-2's equation
+      real(dp), parameter :: u0(2) = [1.84265392_dp, -7.69255130e-4_dp]
+      real(dp), parameter :: u_exact(2) = [1.66311175_dp, -9.41770363e-4_dp]
+      real(dp), parameter :: root(2) = [1.66934524_dp, -9.34309900e-4_dp]
+      real(dp) :: u1(2), guess(2), distance
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("i-t-2", scheme, stat)
+      call scheme%prepare(problem, 2, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      newton%tolerance = 0.03_dp*(1.0e-2_dp + 1.0e-2_dp*abs(u0))
+      call scheme%advance(problem, t0, h, u0, u1, newton, stat, guess=root)
+      call check(error, stat%code, status_ok, "from the root: status "//format_integer(stat%code))
+      if (allocated(error)) return
+      distance = maxval(abs(u1 - root)/newton%tolerance)
+      call check(error, distance <= 0.01_dp, "from the root, Newton moved "//format_real(distance)//" tolerances")
+      if (allocated(error)) return
+
+      guess = u0 + 1.1_dp*(u_exact - u0)
+      call scheme%restart()
+      call scheme%advance(problem, t0, h, u0, u1, newton, stat, guess=guess)
+      if (stat%code == status_newton_diverged .or. stat%code == status_newton_not_converged) return
+      call check(error, stat%code, status_ok, "status "//format_integer(stat%code))
+      if (allocated(error)) return
+      distance = maxval(abs(u1 - root)/newton%tolerance)
+      call check(error, distance <= 1.0_dp, "Newton stopped "//format_real(distance)// &
+         " Newton tolerances from the root: y = "//format_real(u1(1))//", root "//format_real(root(1)))
+   end subroutine test_newton_first_increment
 
    subroutine cubic_f(self, t, u, dudt)
       class(cubic_problem), intent(inout) :: self

@@ -33,8 +33,12 @@ module taylorode_newton_solver
    integer, parameter :: default_max_newton_iterations = 10
    !> Contraction factor above which the Newton matrix is rebuilt at the current iterate
    real(dp), parameter :: refresh_contraction = 0.25_dp
-   !> Contraction factor (after a rebuild) at which the iteration is declared divergent
+   !> Contraction factor, of two increments with a matrix built in the same solve, at
+   !> which the iteration is declared divergent
    real(dp), parameter :: divergence_contraction = 2.0_dp
+   !> An increment of at most this many units of rounding of the iterate, in every
+   !> component, is all the iteration can resolve
+   real(dp), parameter :: rounding_ulps = 4.0_dp
    !> A factored Newton matrix serves a later step while h differs by at most this
    !> fraction from the h it was built with ...
    real(dp), parameter :: reuse_step_change = 0.2_dp
@@ -53,7 +57,8 @@ module taylorode_newton_solver
       logical :: reuse_matrix = .true.
       !> Stop when the error left, estimated from the contraction as
       !> theta/(1 - theta) |increment|, is within the tolerance (RADAU5's test; the first
-      !> increment, whose contraction is not known yet, must itself be within it); off:
+      !> increment of a matrix kept from an earlier solve must itself be within it, that
+      !> of a matrix built in this solve is not accepted alone); off:
       !> when the last increment is, with a second iteration whenever the matrix was kept
       logical :: estimate_error = .true.
       !> Newton matrices with every term of the equation's derivative (i-t-2: the second
@@ -268,7 +273,11 @@ contains
    !> rebuilt at the current iterate whenever the iteration contracts poorly or too
    !> slowly to converge within the iteration limit. Each iteration costs one
    !> residual and one LU solve. Converged when the error left, estimated as
-   !> theta/(1 - theta) max_i |increment_i| / tolerance_i, is at most 1 (or, without
+   !> theta/(1 - theta) max_i |increment_i| / tolerance_i with theta the contraction
+   !> of the last two increments with one matrix, is at most 1 (the first increment of a
+   !> kept matrix counts as its own estimate, that of a matrix just built as none, an
+   !> increment that did not contract as none; one within the rounding of the iterate
+   !> ends the iteration) (or, without
    !> settings%estimate_error, when every |increment_i| <= tolerance_i), and what the
    !> increment becomes in the next step (`propagate`) is within the tolerances too.
    !> A failure is reported by its code alone (no message is built, nothing is
@@ -295,7 +304,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, rebuilt, known
+      logical :: rebuild, known, fresh, first, below_rounding
       real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
@@ -315,12 +324,18 @@ contains
       ! with a kept matrix one small increment says little about the error left:
       ! a second iteration measures the contraction
       least_iterations = merge(1, 2, rebuild .or. settings%estimate_error)
-      ! the first increment is its own error estimate: a contraction carried over from
-      ! another solve (RADAU5's FACCON**0.8) says little about this one, and accepting
-      ! a first increment far above the tolerance let si-t-2 stop short of the solution
-      ! at the folds of Van der Pol (mu = 1e6: error 3.5 instead of 0.14, 2.6 times the steps)
+      ! the first increment of a kept matrix is its own error estimate: a contraction
+      ! carried over from another solve (RADAU5's FACCON**0.8) says little about this
+      ! one, and accepting a first increment far above the tolerance let si-t-2 stop
+      ! short of the solution at the folds of Van der Pol (mu = 1e6: error 3.5 instead
+      ! of 0.14, 2.6 times the steps). A matrix built at an iterate off the solution's
+      ! manifold can make its first increment far too small (i-t-2's second-derivative
+      ! term: 2e-3 of the distance to the root on Van der Pol's slow branch), so a new
+      ! matrix's first increment is never accepted alone; its contraction is measured
+      ! with the same matrix (a rebuilt matrix starts the measurement afresh)
       error_factor = 1.0_dp
       size_before = huge(1.0_dp)
+      fresh = .false.
       do iteration = 1, settings%max_iterations
          call system%residual(problem, u, self%increment, counters)
          counters%newton_iterations = counters%newton_iterations + 1
@@ -337,8 +352,10 @@ contains
             end if
             self%increment(i) = -self%increment(i)
          end do
-         rebuilt = rebuild
          if (rebuild) then
+            ! a new matrix: its contraction is measured afresh
+            size_before = huge(1.0_dp)
+            fresh = .true.
             call self%kept(slot)%linear%matrix%set_zero()
             call system%newton_matrix(problem, u, self%kept(slot)%linear%matrix, counters, stat)
             if (stat%code /= status_ok) return
@@ -353,8 +370,10 @@ contains
          if (stat%code /= status_ok) return
          ! the update and the size of the increment in the tolerances
          size_now = 0.0_dp
+         below_rounding = .true.
          do i = 1, m
             u(i) = u(i) + self%increment(i)
+            below_rounding = below_rounding .and. abs(self%increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i))
             if (.not. ieee_is_finite(u(i))) then
                call set_code(stat, status_newton_diverged)
                self%kept(slot)%linear%factored = .false.
@@ -378,10 +397,21 @@ contains
             if (stat%code /= status_ok) return
          end if
          ! (nothing to compare the first increment with: its contraction counts as 0)
+         first = size_before == huge(1.0_dp)
          contraction = 0.0_dp
-         if (known .and. iteration > 1) contraction = size_now/size_before
+         if (known .and. .not. first) contraction = size_now/size_before
          if (settings%estimate_error) then
-            if (iteration > 1 .and. known .and. contraction < 1.0_dp) error_factor = contraction/(1.0_dp - contraction)
+            if (first) then
+               ! a matrix built in this solve says nothing yet of the nonlinearity
+               ! between the iterate and the solution: its first increment is no error
+               ! estimate (one kept from a solve that contracted well is taken as one)
+               error_factor = merge(huge(1.0_dp), 1.0_dp, fresh)
+            else if (known) then
+               error_factor = huge(1.0_dp)
+               if (contraction < 1.0_dp) error_factor = contraction/(1.0_dp - contraction)
+            end if
+            ! an increment within the rounding of the iterate cannot be resolved further
+            if (below_rounding .and. size_now <= 1.0_dp) error_factor = min(error_factor, 1.0_dp)
             if (error_factor*size_now <= 1.0_dp) then
                if (propagation_within(error_factor)) then
                   call converged()
@@ -390,7 +420,7 @@ contains
                if (stat%code /= status_ok) return
             end if
          end if
-         if (known .and. contraction >= divergence_contraction .and. rebuilt) then
+         if (known .and. contraction >= divergence_contraction .and. fresh) then
             self%kept(slot)%linear%factored = .false.
             call set_code(stat, status_newton_diverged)
             return
@@ -398,7 +428,7 @@ contains
          ! rebuild on poor contraction, or when at this rate the iteration limit
          ! would come before convergence
          if (known .and. contraction > refresh_contraction) rebuild = .true.
-         if (known .and. iteration > 1 .and. contraction < 1.0_dp) then
+         if (known .and. .not. first .and. contraction < 1.0_dp) then
             if (size_now*contraction**(settings%max_iterations - iteration)/(1.0_dp - contraction) &
                > 1.0_dp) rebuild = .true.
          end if
