@@ -304,7 +304,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, known, fresh, first, below_rounding
+      logical :: rebuild, known, fresh, first, below_rounding, estimated
       real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
@@ -334,6 +334,7 @@ contains
       ! matrix's first increment is never accepted alone; its contraction is measured
       ! with the same matrix (a rebuilt matrix starts the measurement afresh)
       error_factor = 1.0_dp
+      estimated = .true.
       size_before = huge(1.0_dp)
       fresh = .false.
       do iteration = 1, settings%max_iterations
@@ -405,14 +406,19 @@ contains
                ! a matrix built in this solve says nothing yet of the nonlinearity
                ! between the iterate and the solution: its first increment is no error
                ! estimate (one kept from a solve that contracted well is taken as one)
-               error_factor = merge(huge(1.0_dp), 1.0_dp, fresh)
+               estimated = .not. fresh
+               error_factor = 1.0_dp
             else if (known) then
-               error_factor = huge(1.0_dp)
-               if (contraction < 1.0_dp) error_factor = contraction/(1.0_dp - contraction)
+               ! an increment that did not contract estimates nothing either
+               estimated = contraction < 1.0_dp
+               if (estimated) error_factor = contraction/(1.0_dp - contraction)
             end if
             ! an increment within the rounding of the iterate cannot be resolved further
-            if (below_rounding .and. size_now <= 1.0_dp) error_factor = min(error_factor, 1.0_dp)
-            if (error_factor*size_now <= 1.0_dp) then
+            if (below_rounding .and. size_now <= 1.0_dp) then
+               estimated = .true.
+               error_factor = min(error_factor, 1.0_dp)
+            end if
+            if (estimated .and. error_factor*size_now <= 1.0_dp) then
                if (propagation_within(error_factor)) then
                   call converged()
                   return
