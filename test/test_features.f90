@@ -49,6 +49,12 @@ module test_features
       procedure :: evaluate => thresholds
    end type threshold_type
 
+   !> y = 1/2
+   type, extends(event_functions_type) :: half_type
+   contains
+      procedure :: evaluate => half_crossing
+   end type half_type
+
    !> The standard weights atol + rtol max(|u_old|, |u_new|), written as a user would
    type, extends(error_weight_type) :: standard_weights_type
       real(dp) :: rtol = 1.0e-6_dp, atol = 1.0e-10_dp
@@ -82,6 +88,7 @@ contains
          new_unittest("observer", test_observer), &
          new_unittest("events-bouncing-ball", test_bouncing_ball), &
          new_unittest("events-robertson-threshold", test_robertson_threshold), &
+         new_unittest("events-between-long-steps", test_events_between_long_steps), &
          new_unittest("dense-output-radau5-order", test_radau_dense_order), &
          new_unittest("dense-output-costs", test_dense_output_costs), &
          new_unittest("tolerance-per-component", test_tolerance_per_component), &
@@ -292,6 +299,46 @@ contains
       call check(error, stat%code == status_ok .and. events%found == 0, "a rising filter must find no crossing")
    end subroutine test_robertson_threshold
 
+   !> Prothero-Robinson (L = -1e6, exact solution sin t, rtol = atol = 1e-4) with the
+   !> event y = 1/2, which sin t crosses at pi/6, 5 pi/6, 13 pi/6 and 17 pi/6: the step
+   !> ends are right at any h, so the steps grow fivefold to 2.5 and more, and the
+   !> crossings were located on interpolants no error test had seen: two of the four
+   !> found, the second at 2.35 (radau5) or 3.24 (i-t-2, si-t-2) instead of 2.618, with
+   !> status ok. With events the dense output must pass its error test in the middle of
+   !> every step: all four, each where the interpolated y is within 10 tolerances of
+   !> sin t (within 2 tolerances measured).
+   subroutine test_events_between_long_steps(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(3) = [character(len=6) :: "radau5", "i-t-2", "si-t-2"]
+      type(prothero_robinson_type) :: problem
+      type(half_type) :: events
+      class(scheme_type), allocatable :: scheme
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), exact(4), worst
+      integer :: k, j
+      exact = [1.0_dp, 5.0_dp, 13.0_dp, 17.0_dp]*acos(-1.0_dp)/6.0_dp
+      problem = new_prothero_robinson()
+      do k = 1, size(names)
+         events = half_type(count=1)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, problem%t_end, u, integrator_options_type(rtol=1.0e-4_dp, &
+            atol=1.0e-4_dp), stats, stat, events=events)
+         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, events%found, size(exact), trim(names(k))//": crossings found")
+         if (allocated(error)) return
+         worst = 0.0_dp
+         do j = 1, size(exact)
+            worst = max(worst, abs(sin(events%found_t(j)) - 0.5_dp)/(1.0e-4_dp*1.5_dp))
+         end do
+         call check(error, worst <= 10.0_dp, trim(names(k))//": a crossing "//format_real(worst)// &
+            " tolerances off, at "//format_real(events%found_t(1), 8)//", "//format_real(events%found_t(2), 8))
+         if (allocated(error)) return
+      end do
+   end subroutine test_events_between_long_steps
+
    !> radau5's dense output is its collocation polynomial, of order 3 (the stage order):
    !> on Prothero-Robinson (L = -1e6, exact solution sin t) with constant steps h = 0.1,
    !> 0.05, 0.025 on [0, 1], its error at a quarter and at half of every step falls like
@@ -494,6 +541,13 @@ contains
       real(dp), intent(out) :: values(:)
       values(1) = u(1)
    end subroutine ground_height
+
+   subroutine half_crossing(self, t, u, values)
+      class(half_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: values(:)
+      values(1) = u(1) - 0.5_dp
+   end subroutine half_crossing
 
    subroutine thresholds(self, t, u, values)
       class(threshold_type), intent(inout) :: self

@@ -41,6 +41,9 @@ module taylorode_integrate_integrator
    !> up with status_singular_matrix (RADAU5's NSING limit: a singular matrix at one step
    !> size is cured by the next, a matrix singular again and again is the problem's)
    integer, parameter :: singular_limit = 5
+   !> A step whose dense output fails its error test in the middle (with events) is
+   !> retried with h times 0.9 (1/estimate)^(1/(degree + 1)), at least 0.2 h
+   real(dp), parameter :: event_safety = 0.9_dp, min_event_shrink = 0.2_dp
    !> NaN/Inf values or rejected evaluations in attempts that do not get past the point
    !> where the first of them happened, before giving up (when options%max_failures
    !> is 0: no limit on consecutive failures)
@@ -375,7 +378,7 @@ contains
       type(integration_stats_type) :: call_stats
       type(counters_type) :: work_before
       type(status_type) :: step_stat
-      real(dp) :: t, h, h_next, h_natural, err, nan, trouble_end, t_stop
+      real(dp) :: t, h, h_next, h_natural, err, nan, trouble_end, t_stop, h_retry
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
       integer :: failures, troubles, singular, outcome, next_output, last_failure
@@ -444,13 +447,14 @@ contains
          err = nan
          call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
 
-         ! the dense output at an output time inside the step must pass its error test
-         ! too: else the step is taken back and retried to end at that time
-         if (outcome == attempt_accepted .and. present(t_out)) then
-            if (output_rejected(merge(t_target, t + h, last))) then
+         ! the dense output at an output time inside the step, and with events in the
+         ! middle of the step, must pass its error test too: else the step is taken back
+         ! and retried shorter (to end at that output time)
+         if (outcome == attempt_accepted .and. (present(t_out) .or. present(events))) then
+            if (dense_output_rejected(merge(t_target, t + h, last), h_retry)) then
                call self%stepper%undo_acceptance()
                outcome = attempt_rejected_output
-               h_next = t_out(next_output) - t
+               h_next = h_retry
             end if
          end if
          if (step_stat%code == status_out_of_memory) then
@@ -694,40 +698,72 @@ contains
       end subroutine build_step
 
       !> Whether the dense output of the step just accepted, [t, t_end_of_step], fails its
-      !> error test at an output time inside it: the error estimated from the newest
+      !> error test, and the step size to retry with: the error estimated from the newest
       !> state the interpolant does not pass through (interpolation_error), in the
-      !> weighted norm, above 1. Without such a state (the first steps of a call that
-      !> starts anew) there is no estimate, and the step is retried to end at the output
-      !> time: an untested interpolant across a long first step (a large h0, or steps
-      !> grown fivefold on a problem whose step ends are exact at any h) was 1e3
-      !> tolerances off with status ok.
-      logical function output_rejected(t_end_of_step)
+      !> weighted norm, above 1 at an output time inside the step (the retry ends there)
+      !> or, with events, which are located on the dense output between output times
+      !> too, in the middle of the step, where an interpolant's error is largest (the
+      !> retry is shorter by the estimate's order, degree + 1). Without such a state (the
+      !> first steps of a call that starts anew) there is no estimate: a step with an
+      !> output time inside is retried to end there (an untested interpolant across a long
+      !> first step, a large h0 or steps grown fivefold on a problem whose step ends are
+      !> exact at any h, was 1e3 tolerances off with status ok); events are located on
+      !> it untested.
+      logical function dense_output_rejected(t_end_of_step, h_retry)
          real(dp), intent(in) :: t_end_of_step
+         real(dp), intent(out) :: h_retry
          real(dp) :: worst
          integer :: k, extra
-         output_rejected = .false.
-         if (next_output > size(t_out)) return
-         if (.not. (t_out(next_output) > t .and. t_out(next_output) < t_end_of_step)) return
+         logical :: output_inside, testable
+         dense_output_rejected = .false.
+         h_retry = h
+         output_inside = .false.
+         if (present(t_out)) then
+            if (next_output <= size(t_out)) output_inside = t_out(next_output) > t .and. &
+               t_out(next_output) < t_end_of_step
+         end if
+         if (.not. (output_inside .or. present(events))) return
          call build_step(t_end_of_step)
          prebuilt = .true.
          ! the newest state before the step that the interpolant does not pass through
          extra = 1 + count(self%step%points(:self%step%degree) < 0.0_dp)
-         if (self%ring_count <= extra) then
+         testable = self%ring_count > extra
+         if (output_inside) then
             worst = huge(1.0_dp)
-         else
-            worst = 0.0_dp
-            do k = next_output, size(t_out)
-               if (t_out(k) >= t_end_of_step) exit
-               call self%step%interpolation_error(t_out(k), self%ring_t(ring_slot(extra)), &
-                  self%ring_u(:, ring_slot(extra)), self%stepper%delta)
-               worst = max(worst, self%stepper%weighted_norm(problem, self%options, self%stepper%delta))
-            end do
+            if (testable) then
+               worst = 0.0_dp
+               do k = next_output, size(t_out)
+                  if (t_out(k) >= t_end_of_step) exit
+                  worst = max(worst, estimate_at(t_out(k)))
+               end do
+            end if
+            if (worst > 1.0_dp) then
+               dense_output_rejected = .true.
+               h_retry = t_out(next_output) - t
+            end if
          end if
-         output_rejected = worst > 1.0_dp
-         prebuilt = .not. output_rejected
+         if (present(events) .and. testable) then
+            worst = estimate_at(0.5_dp*(t + t_end_of_step))
+            if (worst > 1.0_dp) then
+               dense_output_rejected = .true.
+               h_retry = min(h_retry, h*max(min_event_shrink, &
+                  event_safety*(1.0_dp/worst)**(1.0_dp/real(self%step%degree + 1, dp))))
+            end if
+         end if
+         prebuilt = .not. dense_output_rejected
          ! F at the start, which the Hermite interpolant of the retry needs, is in rhs_start
-         if (output_rejected .and. .not. rhs_pending) self%step%rhs_end = self%step%rhs_start
-      end function output_rejected
+         if (dense_output_rejected .and. .not. rhs_pending) self%step%rhs_end = self%step%rhs_start
+      end function dense_output_rejected
+
+      !> The weighted norm of the dense output's estimated error at time t_inside.
+      real(dp) function estimate_at(t_inside)
+         real(dp), intent(in) :: t_inside
+         integer :: extra
+         extra = 1 + count(self%step%points(:self%step%degree) < 0.0_dp)
+         call self%step%interpolation_error(t_inside, self%ring_t(ring_slot(extra)), &
+            self%ring_u(:, ring_slot(extra)), self%stepper%delta)
+         estimate_at = self%stepper%weighted_norm(problem, self%options, self%stepper%delta)
+      end function estimate_at
 
       !> Start the ring of states at the current one, unless it continues the ring
       !> (the state the last call ended in, unchanged by the caller).
