@@ -7,7 +7,8 @@ module test_schemes
    use taylorode_testset, only: linear_test_type, van_der_pol_type, new_van_der_pol, brusselator_type, &
       new_brusselator
    use taylorode_analysis, only: stability_function
-   use taylorode, only: dp, ode_problem, scheme_type, status_type, new_scheme, scheme_names, &
+   use taylorode, only: dp, ode_problem, scheme_type, status_type, new_scheme, scheme_names, integrate, &
+      integrator_options_type, integration_stats_type, &
       scheme_count, integrate_fixed, status_ok, status_size_mismatch, status_invalid_argument, status_nonfinite, &
       status_unknown_scheme, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged
@@ -89,7 +90,8 @@ contains
          new_unittest("bad-step-input", test_bad_step_input), &
          new_unittest("singular-newton-matrix", test_singular_newton), &
          new_unittest("newton-divergence", test_newton_divergence), &
-         new_unittest("newton-first-increment-of-a-new-matrix", test_newton_first_increment) &
+         new_unittest("newton-first-increment-of-a-new-matrix", test_newton_first_increment), &
+         new_unittest("i-t-2-van-der-pol-mu-1e6", test_it2_van_der_pol_mu_1e6) &
          ]
    end subroutine collect_schemes
 
@@ -544,6 +546,46 @@ contains
       call check(error, distance <= 1.0_dp, "Newton stopped "//format_real(distance)// &
          " Newton tolerances from the root: y = "//format_real(u1(1))//", root "//format_real(root(1)))
    end subroutine test_newton_first_increment
+
+   !> i-t-2 on Van der Pol with mu = 1e6 over [0, 3 mu] at rtol = atol = 1e-2 and 1e-3,
+   !> against radau5 at 1e-10: within 100 tolerances at t_end (the accuracy suite's bound
+   !> for second-order schemes). Its Newton matrix took F''[F] along F at the iterate, and
+   !> an extrapolated guess a little off the slow manifold has F far larger than on it:
+   !> Newton's increments in y were 1e-8 of the distance to the root, it stopped there,
+   !> and the solution crept, then froze at the fold (1e-3: y = 1.07 from t = 0.9 mu to
+   !> the end, 1080 tolerances off; 1e-2 with atol 1e-8 for z: y = 1.98 throughout, 41
+   !> steps), with status ok. The term now takes the smaller of F at the iterate and F
+   !> at the step's start (1e-2: 1.2 tolerances, 1e-3: 15).
+   subroutine test_it2_van_der_pol_mu_1e6(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: tolerances(2) = [1.0e-2_dp, 1.0e-3_dp]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: reference(2), u(2), off
+      integer :: k
+      problem = new_van_der_pol(1.0e6_dp)
+      call new_scheme("radau5", scheme, stat)
+      reference = problem%u0
+      call integrate(problem, scheme, 0.0_dp, problem%t_end, reference, integrator_options_type(rtol=1.0e-10_dp, &
+         atol=1.0e-10_dp), stats, stat)
+      call check(error, stat%code, status_ok, "radau5: "//stat_message(stat))
+      if (allocated(error)) return
+      call new_scheme("i-t-2", scheme, stat)
+      do k = 1, size(tolerances)
+         options = integrator_options_type(rtol=tolerances(k), atol=tolerances(k))
+         u = problem%u0
+         call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat)
+         call check(error, stat%code, status_ok, "i-t-2: "//stat_message(stat))
+         if (allocated(error)) return
+         off = maxval(abs(u - reference)/(tolerances(k) + tolerances(k)*abs(reference)))
+         call check(error, off <= 100.0_dp, "i-t-2 at "//format_real(tolerances(k))//": y = "// &
+            format_real(u(1))//" at t_end (radau5 "//format_real(reference(1))//"), "//format_real(off)//" tolerances off")
+         if (allocated(error)) return
+      end do
+   end subroutine test_it2_van_der_pol_mu_1e6
 
    subroutine cubic_f(self, t, u, dudt)
       class(cubic_problem), intent(inout) :: self

@@ -55,6 +55,11 @@ module taylorode_schemes_implicit_taylor
       logical :: second_derivatives = .true.
       class(matrix_type), allocatable :: jac_probe
       real(dp), allocatable :: probe(:)
+      !> F at the start of the step (evaluated when a Newton matrix with the
+      !> second-derivative term is first built in the step, or kept from the last
+      !> defect check), and whether it is known
+      real(dp), allocatable :: rhs0(:)
+      logical :: rhs0_known = .false.
    contains
       procedure :: residual => implicit_taylor_residual
       procedure :: newton_matrix => implicit_taylor_matrix
@@ -140,6 +145,7 @@ contains
          call sized(system%rhs1, n, what, stat)
          call sized(system%probe, n, what, stat)
          call sized(system%rhs_t1, n, what, stat)
+         call sized(system%rhs0, n, what, stat)
          if (stat%code == status_ok) call new_matrix(system%jac1, n, self%structure, stat)
          if (self%order == 2 .and. stat%code == status_ok) call new_matrix(system%jac_probe, n, self%structure, stat)
       end associate
@@ -168,6 +174,10 @@ contains
       self%system%u0(:) = u0
       self%system%order = self%order
       self%system%second_derivatives = newton%exact_matrix
+      ! F at the start: kept from the last defect check when this step starts there
+      self%system%rhs0_known = self%checked
+      if (self%checked) self%system%rhs0_known = t == self%t_checked .and. all(u0 == self%u_checked)
+      if (self%system%rhs0_known) self%system%rhs0 = self%rhs_checked
       if (present(guess)) then
          u1 = guess
       else
@@ -249,7 +259,15 @@ contains
    !> I - h J(U), or for order 2 the stacked [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]]
    !> (F(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]);
    !> F''[F] is the derivative of J along (1, F) in (t, U) (with dJ/dt when the problem
-   !> depends on t, then by a backward difference, inside the step).
+   !> depends on t, then by a backward difference, inside the step). F there is the smaller
+   !> of F at the iterate and F at the step's start: at the root both lie near the
+   !> solution's slow manifold, but an iterate off it (an extrapolated guess) has F
+   !> dominated by its stiff components, far larger, and the term built with that F
+   !> makes the slow part of the matrix wrong by as much (Van der Pol, mu = 1e6, tol 1e-2:
+   !> Newton's increments in y were 1e-8 of the distance to the root, it stopped there,
+   !> and the solution froze at y = 1.98 with status ok); where F decays along the step
+   !> (Robertson's long steps) F at the iterate is the smaller. Newton converges to the
+   !> same root with either: only the matrix changes.
    subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -258,7 +276,8 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
-      real(dp) :: epsilon_f, side, t_probe
+      real(dp) :: epsilon_f, side, t_probe, size_now, size_start
+      logical :: along_start
 
       call evaluate_jac(problem, self%t1, u, self%jac1, counters, stat)
       if (stat%code /= status_ok) return
@@ -269,18 +288,29 @@ contains
          call matrix%add_block(0.5_dp*self%h, self%jac1, 1, 2, stat)
          call matrix%add_block(-self%h, self%jac1, 2, 1, stat)
          if (self%second_derivatives .and. allocated(self%jac_probe)) then
+            if (.not. self%rhs0_known) then
+               call evaluate_rhs(problem, self%t1 - self%h, self%u0, self%rhs0, counters)
+               self%rhs0_known = .true.
+            end if
+            size_now = norm2(self%rhs1)
+            size_start = norm2(self%rhs0)
+            along_start = size_start < size_now
             ! F''(U)[F] = (J(t1 + e, U + e F) - J(t1, U)) / e, e (1, F) of the size of
             ! sqrt(eps) |U| (e < 0 and t1 + e when the problem depends on t)
             if (problem%autonomous) then
                side = 1.0_dp
-               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(norm2(self%rhs1), tiny(1.0_dp))
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(min(size_now, size_start), tiny(1.0_dp))
                t_probe = self%t1
             else
                side = -1.0_dp
-               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/hypot(norm2(self%rhs1), 1.0_dp)
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/hypot(min(size_now, size_start), 1.0_dp)
                t_probe = self%t1 - epsilon_f
             end if
-            self%probe = u + side*epsilon_f*self%rhs1
+            if (along_start) then
+               self%probe = u + side*epsilon_f*self%rhs0
+            else
+               self%probe = u + side*epsilon_f*self%rhs1
+            end if
             call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters, stat)
             if (stat%code /= status_ok) return
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
