@@ -36,6 +36,10 @@ module taylorode_schemes_implicit_taylor
 
    public :: implicit_taylor_type, new_implicit_taylor
 
+   !> F at an iterate this many times larger than at the step's start marks the iterate
+   !> as off the solution's slow manifold (its stiff components dominate F there)
+   real(dp), parameter :: off_manifold_ratio = 10.0_dp
+
    !> The equation of one member: r(U) = U - U0 - h F(U) [+ h^2/2 J(U) F(U) for order 2]
    type, extends(nonlinear_system_type) :: implicit_taylor_system_type
       !> Member (1 or 2)
@@ -259,15 +263,15 @@ contains
    !> I - h J(U), or for order 2 the stacked [[I - h J + h^2/2 F''[F], h/2 J], [-h J, I]]
    !> (F(U) reused from the residual), whose Schur complement is I - h J + h^2/2 (J^2 + F''[F]);
    !> F''[F] is the derivative of J along (1, F) in (t, U) (with dJ/dt when the problem
-   !> depends on t, then by a backward difference, inside the step). F there is the smaller
-   !> of F at the iterate and F at the step's start: at the root both lie near the
-   !> solution's slow manifold, but an iterate off it (an extrapolated guess) has F
-   !> dominated by its stiff components, far larger, and the term built with that F
-   !> makes the slow part of the matrix wrong by as much (Van der Pol, mu = 1e6, tol 1e-2:
-   !> Newton's increments in y were 1e-8 of the distance to the root, it stopped there,
-   !> and the solution froze at y = 1.98 with status ok); where F decays along the step
-   !> (Robertson's long steps) F at the iterate is the smaller. Newton converges to the
-   !> same root with either: only the matrix changes.
+   !> depends on t, then by a backward difference, inside the step). F there is F at the
+   !> iterate, unless that is more than off_manifold_ratio times F at the step's start:
+   !> at the root both lie near the solution's slow manifold, but an iterate off it (an
+   !> extrapolated guess) has F dominated by its stiff components, orders of magnitude
+   !> larger, and the term built with that F makes the slow part of the matrix wrong by as
+   !> much (Van der Pol, mu = 1e6, tol 1e-2: Newton's increments in y were 1e-8 of the
+   !> distance to the root, it stopped there, and the solution froze at y = 1.98 with
+   !> status ok); F at the start is then the better guess of F at the root. Newton
+   !> converges to the same root with either: only the matrix changes.
    subroutine implicit_taylor_matrix(self, problem, u, matrix, counters, stat)
       class(implicit_taylor_system_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
@@ -294,16 +298,18 @@ contains
             end if
             size_now = norm2(self%rhs1)
             size_start = norm2(self%rhs0)
-            along_start = size_start < size_now
+            along_start = size_now > off_manifold_ratio*size_start
             ! F''(U)[F] = (J(t1 + e, U + e F) - J(t1, U)) / e, e (1, F) of the size of
             ! sqrt(eps) |U| (e < 0 and t1 + e when the problem depends on t)
             if (problem%autonomous) then
                side = 1.0_dp
-               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(min(size_now, size_start), tiny(1.0_dp))
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(merge(size_start, size_now, along_start), &
+                  tiny(1.0_dp))
                t_probe = self%t1
             else
                side = -1.0_dp
-               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/hypot(min(size_now, size_start), 1.0_dp)
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/hypot(merge(size_start, size_now, along_start), &
+                  1.0_dp)
                t_probe = self%t1 - epsilon_f
             end if
             if (along_start) then
