@@ -619,23 +619,13 @@ contains
    subroutine test_dense_output_error(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
-      type(prothero_robinson_type) :: problem
-      class(scheme_type), allocatable :: scheme
-      type(integrator_options_type) :: options
       type(integration_stats_type) :: stats
-      type(status_type) :: stat
-      real(dp) :: u(1), t_out(41), u_out(1, 41), worst
+      real(dp) :: worst
       integer :: k
-      problem = new_prothero_robinson()
-      t_out = [(0.25_dp*real(k - 1, dp), k=1, 41)]
-      options = integrator_options_type(rtol=1.0e-4_dp, atol=1.0e-4_dp)
       do k = 1, size(names)
-         call new_scheme(trim(names(k)), scheme, stat)
-         u = problem%u0
-         call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat, t_out=t_out, u_out=u_out)
-         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         call prothero_robinson_outputs(error, trim(names(k)), integrator_options_type(rtol=1.0e-4_dp, &
+            atol=1.0e-4_dp), stats, worst)
          if (allocated(error)) return
-         worst = maxval(abs(u_out(1, :) - sin(t_out))/(options%atol + options%rtol*abs(sin(t_out))))
          call check(error, worst <= 100.0_dp .and. (k > 1 .or. stats%rejected_output > 0), trim(names(k))// &
             ": dense output off by "//format_real(worst)//" tolerances, "// &
             format_integer(int(stats%rejected_output))//" steps retried to end at an output time")
@@ -652,28 +642,42 @@ contains
    subroutine test_dense_output_first_steps(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(3) = [character(len=6) :: "radau5", "i-t-2", "si-t-2"]
-      type(prothero_robinson_type) :: problem
-      class(scheme_type), allocatable :: scheme
-      type(integrator_options_type) :: options
       type(integration_stats_type) :: stats
-      type(status_type) :: stat
-      real(dp) :: u(1), t_out(41), u_out(1, 41), worst
+      real(dp) :: worst
       integer :: k
-      problem = new_prothero_robinson()
-      t_out = [(0.25_dp*real(k - 1, dp), k=1, 41)]
-      options = integrator_options_type(rtol=1.0e-4_dp, atol=1.0e-4_dp, h0=0.1_dp)
       do k = 1, size(names)
-         call new_scheme(trim(names(k)), scheme, stat)
-         u = problem%u0
-         call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat, t_out=t_out, u_out=u_out)
-         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         call prothero_robinson_outputs(error, trim(names(k)), integrator_options_type(rtol=1.0e-4_dp, &
+            atol=1.0e-4_dp, h0=0.1_dp), stats, worst)
          if (allocated(error)) return
-         worst = maxval(abs(u_out(1, :) - sin(t_out))/(options%atol + options%rtol*abs(sin(t_out))))
          call check(error, worst <= 100.0_dp, trim(names(k))//": dense output off by "//format_real(worst)// &
             " tolerances")
          if (allocated(error)) return
       end do
    end subroutine test_dense_output_first_steps
+
+   !> Prothero-Robinson over [0, 10] with output every 0.25 by one scheme: its status must
+   !> be ok; worst is the largest error of the outputs against sin t, in tolerances.
+   subroutine prothero_robinson_outputs(error, name, options, stats, worst)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), intent(in) :: name
+      type(integrator_options_type), intent(in) :: options
+      type(integration_stats_type), intent(out) :: stats
+      real(dp), intent(out) :: worst
+      type(prothero_robinson_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(status_type) :: stat
+      real(dp) :: u(1), t_out(41), u_out(1, 41)
+      integer :: k
+      problem = new_prothero_robinson()
+      t_out = [(0.25_dp*real(k - 1, dp), k=1, 41)]
+      call new_scheme(name, scheme, stat)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat, t_out=t_out, u_out=u_out)
+      worst = huge(1.0_dp)
+      call check(error, stat%code, status_ok, name//": "//stat_message(stat))
+      if (allocated(error)) return
+      worst = maxval(abs(u_out(1, :) - sin(t_out))/(options%atol + options%rtol*abs(sin(t_out))))
+   end subroutine prothero_robinson_outputs
 
    subroutine decay_f(self, t, u, dudt)
       class(decay_type), intent(inout) :: self

@@ -734,7 +734,7 @@ contains
                worst = 0.0_dp
                do k = next_output, size(t_out)
                   if (t_out(k) >= t_end_of_step) exit
-                  worst = max(worst, estimate_at(t_out(k)))
+                  worst = max(worst, estimate_at(t_out(k), extra))
                end do
             end if
             if (worst > 1.0_dp) then
@@ -743,7 +743,7 @@ contains
             end if
          end if
          if (present(events) .and. testable) then
-            worst = estimate_at(0.5_dp*(t + t_end_of_step))
+            worst = estimate_at(0.5_dp*(t + t_end_of_step), extra)
             if (worst > 1.0_dp) then
                dense_output_rejected = .true.
                h_retry = min(h_retry, h*max(min_event_shrink, &
@@ -755,11 +755,11 @@ contains
          if (dense_output_rejected .and. .not. rhs_pending) self%step%rhs_end = self%step%rhs_start
       end function dense_output_rejected
 
-      !> The weighted norm of the dense output's estimated error at time t_inside.
-      real(dp) function estimate_at(t_inside)
+      !> The weighted norm of the dense output's estimated error at time t_inside, from the
+      !> state `extra` places before the newest.
+      real(dp) function estimate_at(t_inside, extra)
          real(dp), intent(in) :: t_inside
-         integer :: extra
-         extra = 1 + count(self%step%points(:self%step%degree) < 0.0_dp)
+         integer, intent(in) :: extra
          call self%step%interpolation_error(t_inside, self%ring_t(ring_slot(extra)), &
             self%ring_u(:, ring_slot(extra)), self%stepper%delta)
          estimate_at = self%stepper%weighted_norm(problem, self%options, self%stepper%delta)

@@ -93,6 +93,8 @@ module taylorode_schemes_implicit_taylor
       procedure :: stability => implicit_taylor_stability
       !> i-t-2: the filtered trapezoidal defect of a step
       procedure :: step_error => implicit_taylor_step_error
+      !> Whether rhs_checked holds F at (t, u)
+      procedure, private :: holds_rhs_at
    end type implicit_taylor_type
 
 contains
@@ -179,8 +181,7 @@ contains
       self%system%order = self%order
       self%system%second_derivatives = newton%exact_matrix
       ! F at the start: kept from the last defect check when this step starts there
-      self%system%rhs0_known = self%checked
-      if (self%checked) self%system%rhs0_known = t == self%t_checked .and. all(u0 == self%u_checked)
+      self%system%rhs0_known = self%holds_rhs_at(t, u0)
       if (self%system%rhs0_known) self%system%rhs0 = self%rhs_checked
       if (present(guess)) then
          u1 = guess
@@ -201,6 +202,14 @@ contains
       end if
    end subroutine implicit_taylor_advance
 
+   !> Whether rhs_checked holds F at (t, u): the last defect check ended there.
+   pure logical function holds_rhs_at(self, t, u)
+      class(implicit_taylor_type), intent(in) :: self
+      real(dp), intent(in) :: t, u(:)
+      holds_rhs_at = self%checked
+      if (holds_rhs_at) holds_rhs_at = t == self%t_checked .and. all(u == self%u_checked)
+   end function holds_rhs_at
+
    !> error = M^(-1) 2/3 (u1 - u0 - h/2 (F0 + F1)), M the Newton matrix of i-t-2's last
    !> solve: 2/3 of the trapezoidal defect is i-t-2's local error, -h^3/6 U''', to
    !> O(h^4) (the trapezoidal rule's own defect is -h^3/12 U'''). F1 is F at u1, kept for
@@ -214,7 +223,7 @@ contains
       real(dp), contiguous, intent(out) :: error(:)
       type(status_type), intent(inout) :: stat
       integer :: i
-      if (self%checked) self%checked = t == self%t_checked .and. all(u0 == self%u_checked)
+      self%checked = self%holds_rhs_at(t, u0)
       if (.not. self%checked) call evaluate_rhs(problem, t, u0, self%rhs_checked, self%counters)
       ! F0 into error, then F1 into rhs_checked
       error = self%rhs_checked
