@@ -5,7 +5,7 @@ module test_schemes
    use taylorode_base_strings, only: format_integer, format_real
    use test_support, only: rk4_reference, stat_message
    use taylorode_testset, only: linear_test_type, van_der_pol_type, new_van_der_pol, brusselator_type, &
-      new_brusselator
+      new_brusselator, vdp_split_paper, vdp_split_stiff
    use taylorode_analysis, only: stability_function
    use taylorode, only: dp, ode_problem, scheme_type, status_type, new_scheme, scheme_names, integrate, &
       integrator_options_type, integration_stats_type, &
@@ -91,7 +91,8 @@ contains
          new_unittest("singular-newton-matrix", test_singular_newton), &
          new_unittest("newton-divergence", test_newton_divergence), &
          new_unittest("newton-first-increment-of-a-new-matrix", test_newton_first_increment), &
-         new_unittest("i-t-2-van-der-pol-mu-1e6", test_it2_van_der_pol_mu_1e6) &
+         new_unittest("i-t-2-van-der-pol-mu-1e6", test_it2_van_der_pol_mu_1e6), &
+         new_unittest("si-t-2-van-der-pol-mu-1e6", test_sit2_van_der_pol_mu_1e6) &
          ]
    end subroutine collect_schemes
 
@@ -547,9 +548,8 @@ contains
          " Newton tolerances from the root: y = "//format_real(u1(1))//", root "//format_real(root(1)))
    end subroutine test_newton_first_increment
 
-   !> i-t-2 on Van der Pol with mu = 1e6 over [0, 3 mu] at rtol = atol = 1e-2 and 1e-3,
-   !> against radau5 at 1e-10: within 100 tolerances at t_end (the accuracy suite's bound
-   !> for second-order schemes). Its Newton matrix took F''[F] along F at the iterate, and
+   !> i-t-2 on Van der Pol with mu = 1e6: within 100 tolerances at t_end (see
+   !> van_der_pol_mu_1e6). Its Newton matrix took F''[F] along F at the iterate, and
    !> an extrapolated guess a little off the slow manifold has F far larger than on it:
    !> Newton's increments in y were 1e-8 of the distance to the root, it stopped there,
    !> and the solution crept, then froze at the fold (1e-3: y = 1.07 from t = 0.9 mu to
@@ -558,34 +558,56 @@ contains
    !> iterate is more than 10 times larger (1e-2: 12 tolerances, 1e-3: 40).
    subroutine test_it2_van_der_pol_mu_1e6(error)
       type(error_type), allocatable, intent(out) :: error
-      real(dp), parameter :: tolerances(2) = [1.0e-2_dp, 1.0e-3_dp]
+      call van_der_pol_mu_1e6(error, "i-t-2", vdp_split_paper)
+   end subroutine test_it2_van_der_pol_mu_1e6
+
+   !> si-t-2 with the stiff split (f = (z, 0)) on Van der Pol with mu = 1e6: within 100
+   !> tolerances at t_end (see van_der_pol_mu_1e6). Its local extrapolation U1 - M^(-1)
+   !> e put z off the slow manifold by what M's linearization missed, its next step's
+   !> h^2/2 J_f0 F0 turned that into a kick to y of up to a tenth of the tolerance, of
+   !> one sign step after step, and y ran away with status ok (1e-2: y = 1.1e4 at t_end,
+   !> 4.6e5 tolerances; 1e-3: 1.2e3 tolerances). The extrapolated state is now corrected
+   !> onto the step's equation (1e-2: 0.4 tolerances, 1e-3: 0.2).
+   subroutine test_sit2_van_der_pol_mu_1e6(error)
+      type(error_type), allocatable, intent(out) :: error
+      call van_der_pol_mu_1e6(error, "si-t-2", vdp_split_stiff)
+   end subroutine test_sit2_van_der_pol_mu_1e6
+
+   !> The scheme `name` on Van der Pol with mu = 1e6 and `split` over [0, 3 mu] at rtol =
+   !> atol = 1e-2 and 1e-3, against radau5 at 1e-10: within 100 tolerances at t_end (the
+   !> accuracy suite's bound for second-order schemes).
+   subroutine van_der_pol_mu_1e6(error, name, split)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: split
       type(van_der_pol_type) :: problem
+      real(dp), parameter :: tolerances(2) = [1.0e-2_dp, 1.0e-3_dp]
       class(scheme_type), allocatable :: scheme
       type(integrator_options_type) :: options
       type(integration_stats_type) :: stats
       type(status_type) :: stat
       real(dp) :: reference(2), u(2), off
       integer :: k
-      problem = new_van_der_pol(1.0e6_dp)
+      problem = new_van_der_pol(1.0e6_dp, split)
       call new_scheme("radau5", scheme, stat)
       reference = problem%u0
       call integrate(problem, scheme, 0.0_dp, problem%t_end, reference, integrator_options_type(rtol=1.0e-10_dp, &
          atol=1.0e-10_dp), stats, stat)
       call check(error, stat%code, status_ok, "radau5: "//stat_message(stat))
       if (allocated(error)) return
-      call new_scheme("i-t-2", scheme, stat)
+      call new_scheme(name, scheme, stat)
       do k = 1, size(tolerances)
          options = integrator_options_type(rtol=tolerances(k), atol=tolerances(k))
          u = problem%u0
          call integrate(problem, scheme, 0.0_dp, problem%t_end, u, options, stats, stat)
-         call check(error, stat%code, status_ok, "i-t-2: "//stat_message(stat))
+         call check(error, stat%code, status_ok, name//": "//stat_message(stat))
          if (allocated(error)) return
          off = maxval(abs(u - reference)/(tolerances(k) + tolerances(k)*abs(reference)))
-         call check(error, off <= 100.0_dp, "i-t-2 at "//format_real(tolerances(k))//": y = "// &
+         call check(error, off <= 100.0_dp, name//" at "//format_real(tolerances(k))//": y = "// &
             format_real(u(1))//" at t_end (radau5 "//format_real(reference(1))//"), "//format_real(off)//" tolerances off")
          if (allocated(error)) return
       end do
-   end subroutine test_it2_van_der_pol_mu_1e6
+   end subroutine van_der_pol_mu_1e6
 
    subroutine cubic_f(self, t, u, dudt)
       class(cubic_problem), intent(inout) :: self

@@ -71,7 +71,7 @@ module taylorode_schemes_semi_implicit_taylor
       !> Whether jac_g0 and jac_g1 hold dg/dU of a problem with linear g (kept for the
       !> integration)
       logical :: jac_g0_constant = .false., jac_g1_constant = .false.
-      !> J_g0 e (si-t-2's propagated error)
+      !> J_g0 e (si-t-2's propagated error; U0 - U1 in its step error)
       real(dp), allocatable :: stiff_part(:)
    contains
       procedure :: residual => semi_implicit_residual
@@ -92,6 +92,10 @@ module taylorode_schemes_semi_implicit_taylor
       real(dp), allocatable :: f_t0(:), g_t0(:)
       !> The state the values at U0 belong to
       real(dp), allocatable :: u_start(:)
+      !> si-t-2's step error before the inverse Newton matrix is applied to it
+      real(dp), allocatable :: unfiltered_error(:)
+      !> Whether unfiltered_error belongs to the step just taken
+      logical :: known_unfiltered_error = .false.
       !> The time the values at U0 belong to
       real(dp) :: t_start = 0.0_dp
       !> Which values at U0 are known: f0, g0 (and F0), the Jacobians J_f0 and J_g0,
@@ -114,6 +118,8 @@ module taylorode_schemes_semi_implicit_taylor
       procedure :: step_error => semi_implicit_step_error
       !> si-t-2: h^2/2 J_f0 J_g0 e
       procedure :: propagated_error => semi_implicit_propagated_error
+      !> si-t-2: U1 minus its step error, corrected to the step's equation
+      procedure :: extrapolate => semi_implicit_extrapolate
    end type semi_implicit_taylor_type
 
 contains
@@ -186,6 +192,7 @@ contains
       call sized(self%f0, n, what, stat)
       call sized(self%g0, n, what, stat)
       call sized(self%u_start, n, what, stat)
+      call sized(self%unfiltered_error, n, what, stat)
       call sized(self%f_t0, n, what, stat)
       call sized(self%g_t0, n, what, stat)
       call forget_start(self)
@@ -352,6 +359,7 @@ contains
       self%known_g0 = .false.
       self%known_jacobians = .false.
       self%known_time_derivatives = .false.
+      self%known_unfiltered_error = .false.
    end subroutine forget_start
 
    !> The local error of the si-t-2 step just taken from (t, u0) to u1. With D = U1 -
@@ -387,12 +395,12 @@ contains
             error(i) = (2.0_dp/3.0_dp)*(u1(i) - u0(i) - 0.5_dp*h*((self%f0(i) + self%g0(i)) + system%f1(i) + system%g1(i)))
          end do
          if (.not. (problem%linear_g .and. problem%autonomous)) then
-            ! U0 - U1 in the known part of the step's equation, free after the step
-            system%known(si_t_2)%values = u0 - u1
+            system%stiff_part = u0 - u1
             error = error + (h/3.0_dp)*(system%g1 - self%g0)
-            call system%jac_g0%multiply_add(h/3.0_dp, system%known(si_t_2)%values, error)
+            call system%jac_g0%multiply_add(h/3.0_dp, system%stiff_part, error)
             if (.not. problem%autonomous) error = error - (h*h/3.0_dp)*self%g_t0
          end if
+         self%unfiltered_error = error
          call self%newton(si_t_2)%apply_inverse(error, self%counters, stat)
          ! the values at U1 start the next step
          self%t_start = t + h
@@ -403,8 +411,51 @@ contains
          self%known_g0 = .true.
          self%known_jacobians = .false.
          self%known_time_derivatives = .false.
+         self%known_unfiltered_error = stat%code == status_ok
       end associate
    end subroutine semi_implicit_step_error
+
+   !> si-t-2's local extrapolation U1 - M^(-1) e (e its step error before the filter, M
+   !> the step's Newton matrix) solves r(U) = -e, the step's equation offset by e, only
+   !> to first order, and M's J_g may be several steps old: in a stiff direction the
+   !> rest can be large, and the next step's h^2/2 J_f0 F0 amplifies it (Van der Pol,
+   !> mu = 1e6: kicks to y of a tenth of the tolerance, of one sign, step after step,
+   !> until y ran away). The correction is one more Newton step with M, M^(-1) (r(U) +
+   !> e) at U = U1 - M^(-1) e; f and g evaluated there start the next step when it is
+   !> not applied. The other members, and an evaluation the problem rejects, give none.
+   subroutine semi_implicit_extrapolate(self, problem, t, h, u1, error, correction, corrected)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      class(ode_problem), intent(inout) :: problem
+      real(dp), intent(in) :: t, h
+      real(dp), intent(inout) :: u1(:)
+      real(dp), intent(in) :: error(:)
+      real(dp), contiguous, intent(inout) :: correction(:)
+      logical, intent(out) :: corrected
+      type(status_type) :: solve_stat
+      u1 = u1 - error
+      corrected = .false.
+      if (self%member /= si_t_2 .or. .not. self%known_unfiltered_error .or. t + h /= self%t_start) return
+      self%known_unfiltered_error = .false.
+      ! f and g at U: the next step's values at its start
+      call forget_start(self)
+      call evaluate_f(problem, t + h, u1, self%f0, self%counters)
+      call evaluate_g(problem, t + h, u1, self%g0, self%counters)
+      if (problem%evaluation_rejected()) then
+         call problem%clear_rejection()
+         return
+      end if
+      self%u_start = u1
+      self%known_f0 = .true.
+      self%known_g0 = .true.
+      associate (system => self%system)
+         ! r(U) + e = U - known - h g + h^2/2 J_g0 (f + g) + e
+         correction = u1 - system%known(si_t_2)%values - h*self%g0 + self%unfiltered_error
+         system%f1 = self%f0 + self%g0
+         call system%jac_g0%multiply_add(0.5_dp*h*h, system%f1, correction)
+      end associate
+      call self%newton(si_t_2)%apply_inverse(correction, self%counters, solve_stat)
+      corrected = solve_stat%code == status_ok
+   end subroutine semi_implicit_extrapolate
 
    !> propagated = h^2/2 J_f0 J_g0 error (filtered: M^(-1) times it), with the Jacobians
    !> and the Newton matrix M of the step just taken: what an error of its state adds
