@@ -157,6 +157,7 @@ module taylorode_interfaces_legacy
       procedure :: f => legacy_f
       procedure :: g => legacy_g
       procedure :: rhs => legacy_rhs
+      procedure :: rhs_values => legacy_rhs_values
       procedure :: jac_f => legacy_jac_f
       procedure :: jac_g => legacy_jac_g
       procedure :: jac => legacy_jac
@@ -804,6 +805,26 @@ contains
       call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
    end subroutine legacy_rhs
 
+   !> F = f + g of n unknowns: FCN alone called here with the state copied (radau5's
+   !> stages), else legacy_rhs.
+   subroutine legacy_rhs_values(self, n, t, u, dudt)
+      class(legacy_problem_type), intent(inout) :: self
+      integer, intent(in) :: n
+      real(dp), intent(in) :: t, u(n)
+      real(dp), intent(out) :: dudt(n)
+      real(dp) :: x
+      integer :: i
+      if (self%has_f .or. self%flag > 0) then
+         call legacy_rhs(self, t, u, dudt)
+         return
+      end if
+      x = t
+      do i = 1, n
+         self%x_state(i) = u(i)
+      end do
+      call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
+   end subroutine legacy_rhs_values
+
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
    subroutine legacy_jac_f(self, t, u, jac)
       class(legacy_problem_type), intent(inout) :: self
@@ -908,13 +929,16 @@ contains
    end function differenced_part
 
    !> Dense J given F(t, u): without Jacobian routines, differences from that F (N
-   !> evaluations, as RADAU5's from F(X, Y)); else legacy_jac.
+   !> evaluations, as RADAU5's from F(X, Y)); TAYLORODE's JAC called here (no f); else
+   !> legacy_jac.
    subroutine legacy_jac_with_rhs(self, t, u, value, jac)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:), value(:)
       real(dp), intent(out) :: jac(:, :)
       if (differenced_part(self) /= 0) then
          call dense_differences(self, differenced_part(self), t, u, jac, value)
+      else if (.not. self%has_f) then
+         call call_jac(self, self%jac_g_user, t, u, jac)
       else
          call self%jac(t, u, jac)
       end if

@@ -21,6 +21,9 @@
 !> complex system (Radau IIA's two) with such factors in one pass. Up to order 4
 !> (the stacked Newton matrices of two unknowns) the real solve is written out
 !> statement by statement: the loops' set-up cost more than their arithmetic there.
+!> For the same reason their loops are not unrolled (`!GCC$ unroll 1`, which
+!> overrides fpm's -funroll-loops): an unrolled loop of trip count 2 runs through
+!> a ladder of remainder tests.
 module taylorode_linalg_lapack
    use, intrinsic :: iso_c_binding, only: c_char, c_int
    use taylorode_base_kinds, only: dp
@@ -419,9 +422,11 @@ contains
 
       n = size(a, 1)
       info = 0
+      !GCC$ unroll 1
       do k = 1, n
          p = k
          largest = abs(a(k, k))
+         !GCC$ unroll 1
          do i = k + 1, n
             if (abs(a(i, k)) > largest) then
                largest = abs(a(i, k))
@@ -434,6 +439,7 @@ contains
             cycle
          end if
          if (p /= k) then
+            !GCC$ unroll 1
             do j = 1, n
                swap = a(k, j)
                a(k, j) = a(p, j)
@@ -442,11 +448,14 @@ contains
          end if
          pivot = 1.0_dp/a(k, k)
          if (present(inverse_diagonal)) inverse_diagonal(k) = pivot
+         !GCC$ unroll 1
          do i = k + 1, n
             a(i, k) = a(i, k)*pivot
          end do
+         !GCC$ unroll 1
          do j = k + 1, n
             factor = a(k, j)
+            !GCC$ unroll 1
             do i = k + 1, n
                a(i, j) = a(i, j) - factor*a(i, k)
             end do
@@ -472,6 +481,7 @@ contains
          call tiny_lu_solve(lu, ipiv, b, inverse_diagonal)
          return
       end if
+      !GCC$ unroll 1
       do k = 1, n
          if (ipiv(k) /= k) then
             swap = b(k)
@@ -479,24 +489,30 @@ contains
             b(ipiv(k)) = swap
          end if
       end do
+      !GCC$ unroll 1
       do k = 1, n - 1
          bk = b(k)
+         !GCC$ unroll 1
          do i = k + 1, n
             b(i) = b(i) - bk*lu(i, k)
          end do
       end do
       if (present(inverse_diagonal)) then
+         !GCC$ unroll 1
          do k = n, 1, -1
             bk = b(k)*inverse_diagonal(k)
             b(k) = bk
+            !GCC$ unroll 1
             do i = 1, k - 1
                b(i) = b(i) - bk*lu(i, k)
             end do
          end do
       else
+         !GCC$ unroll 1
          do k = n, 1, -1
             b(k) = b(k)/lu(k, k)
             bk = b(k)
+            !GCC$ unroll 1
             do i = 1, k - 1
                b(i) = b(i) - bk*lu(i, k)
             end do
@@ -530,6 +546,7 @@ contains
       real(dp) :: swap, bk, br, bi, lr, li
 
       n = size(a, 1)
+      !GCC$ unroll 1
       do k = 1, n
          p = a_pivots(k)
          if (p /= k) then
@@ -547,14 +564,17 @@ contains
             im(p) = swap
          end if
       end do
+      !GCC$ unroll 1
       do k = 1, n - 1
          bk = x(k)
          br = re(k)
          bi = im(k)
+         !GCC$ unroll 1
          do i = k + 1, n
             call eliminate(x(i), re(i), im(i), a(i, k), c(i, k))
          end do
       end do
+      !GCC$ unroll 1
       do k = n, 1, -1
          bk = x(k)*a_inverse_diagonal(k)
          x(k) = bk
@@ -564,6 +584,7 @@ contains
          bi = re(k)*li + im(k)*lr
          re(k) = br
          im(k) = bi
+         !GCC$ unroll 1
          do i = 1, k - 1
             call eliminate(x(i), re(i), im(i), a(i, k), c(i, k))
          end do
@@ -688,9 +709,11 @@ contains
 
       n = size(a, 1)
       info = 0
+      !GCC$ unroll 1
       do k = 1, n
          p = k
          largest = abs(a(k, k)%re) + abs(a(k, k)%im)
+         !GCC$ unroll 1
          do i = k + 1, n
             if (abs(a(i, k)%re) + abs(a(i, k)%im) > largest) then
                largest = abs(a(i, k)%re) + abs(a(i, k)%im)
@@ -703,6 +726,7 @@ contains
             cycle
          end if
          if (p /= k) then
+            !GCC$ unroll 1
             do j = 1, n
                swap = a(k, j)
                a(k, j) = a(p, j)
@@ -711,11 +735,14 @@ contains
          end if
          pivot = reciprocal(a(k, k))
          if (present(inverse_diagonal)) inverse_diagonal(k) = pivot
+         !GCC$ unroll 1
          do i = k + 1, n
             a(i, k) = a(i, k)*pivot
          end do
+         !GCC$ unroll 1
          do j = k + 1, n
             factor = a(k, j)
+            !GCC$ unroll 1
             do i = k + 1, n
                a(i, j) = a(i, j) - factor*a(i, k)
             end do

@@ -127,6 +127,10 @@ module taylorode_problem_ode
       !> only F (radau5); default: f, then g added. Override it when F costs less in one
       !> call; it must equal f + g
       procedure :: rhs
+      !> F(t, U) of n unknowns stored contiguously, for the schemes' inner loops, which
+      !> call it with explicit-shape arrays (no array descriptors); default: `rhs`.
+      !> Override it only to call F without them (the legacy entry's FCN)
+      procedure :: rhs_values
       !> The whole Jacobian J = df/dU + dg/dU, for the schemes that use only J (i-t-1,
       !> i-t-2, radau5); default: jac_f, then jac_g added, or, when both are the default
       !> differences (`ode_problem_fd`), forward differences of F = `rhs` (one call per
@@ -310,7 +314,8 @@ contains
       class(ode_problem), intent(inout) :: self
       self%rejected = .false.
       self%fatal = .false.
-      self%memory = ""
+      ! the 200 blanks are written only over a message (every attempt clears)
+      if (self%memory(1:1) /= " ") self%memory = ""
    end subroutine clear_rejection
 
    !> When a default method rejected an evaluation (fatally) because its work array
@@ -334,7 +339,7 @@ contains
       work_ready = stat%code == status_ok
       if (work_ready) return
       self%memory = "out of memory: a work array of the problem"
-      if (allocated(stat%message)) self%memory = stat%message
+      if (allocated(stat%message)) self%memory = adjustl(stat%message)
       call self%reject_evaluation(fatal=.true.)
       select rank (value)
       rank (1)
@@ -401,6 +406,21 @@ contains
          dudt(i) = dudt(i) + self%rhs_work(i)
       end do
    end subroutine rhs
+
+   !> F(t, u) of n unknowns: `rhs`.
+   subroutine rhs_values(self, n, t, u, dudt)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Unknowns
+      integer, intent(in) :: n
+      !> Time
+      real(dp), intent(in) :: t
+      !> State
+      real(dp), intent(in) :: u(n)
+      !> F(t, u)
+      real(dp), intent(out) :: dudt(n)
+      call self%rhs(t, u, dudt)
+   end subroutine rhs_values
 
    !> J = df/dU + dg/dU: jac_f, then jac_g into a work array the problem keeps, added;
    !> when both are the default differences (`ode_problem_fd`), forward differences of F

@@ -70,6 +70,11 @@
 !> Counters: one LU factorization counts the real and the complex factorization
 !> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
 !> systems) and per error-estimate solve.
+!>
+!> The loops over the unknowns of a step are not unrolled (`!GCC$ unroll 1`, which
+!> overrides fpm's -funroll-loops): on the problems of two to a few dozen unknowns
+!> RADAU5 is used for, an unrolled loop runs through a ladder of remainder tests
+!> that costs more than its arithmetic; on large ones the loops are bound by memory.
 module taylorode_schemes_radau5
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_singular_matrix, &
@@ -290,6 +295,7 @@ contains
       integer :: i
       degree = 0
       if (.not. (self%have_stages .and. t == self%t_start .and. h == self%h_stages)) return
+      !GCC$ unroll 1
       do i = 1, self%n
          if (u1(i) /= self%u_start(i) + self%z(i, 3)) return
       end do
@@ -450,6 +456,7 @@ contains
          u1 = u0
          return
       end if
+      !GCC$ unroll 1
       do i = 1, n
          u1(i) = u0(i) + self%z(i, 3)
       end do
@@ -481,6 +488,7 @@ contains
             end if
             self%retry = .false.
             self%t_start = t
+            !GCC$ unroll 1
             do i = 1, n
                self%u_start(i) = u0(i)
             end do
@@ -514,7 +522,9 @@ contains
       if (self%small) then
          select type (jac => self%jac)
          type is (dense_matrix_type)
+            !GCC$ unroll 1
             do j = 1, self%n
+               !GCC$ unroll 1
                do i = 1, self%n
                   entry = -jac%a(i, j)
                   self%small_matrix(i, j) = entry
@@ -611,6 +621,7 @@ contains
          c3q = h/self%h_polynomial
          c1q = c1*c3q
          c2q = c2*c3q
+         !GCC$ unroll 1
          do i = 1, n
             ak1 = self%polynomial(i, 1)
             ak2 = self%polynomial(i, 2)
@@ -626,6 +637,7 @@ contains
             w(i, 3) = ti31*z1 + ti32*z2 + ti33*z3
          end do
       else
+         !GCC$ unroll 1
          do i = 1, n
             z(i, 1) = 0.0_dp
             z(i, 2) = 0.0_dp
@@ -654,10 +666,11 @@ contains
          ! F = f + g at the three stages (the problem's rhs, called directly), each into
          ! its stage's column of z once the stage state is formed
          do s = 1, 3
+            !GCC$ unroll 1
             do i = 1, n
                stage(i) = u0(i) + z(i, s)
             end do
-            call problem%rhs(stage_time(s), stage, r(:, s))
+            call problem%rhs_values(n, stage_time(s), stage, r(:, s))
          end do
          self%counters%f_evaluations = self%counters%f_evaluations + 3
          self%counters%g_evaluations = self%counters%g_evaluations + 3
@@ -674,6 +687,7 @@ contains
          ! the sum of |F| is finite unless some F is NaN or Inf (or all are so large that
          ! the sum overflows): one test instead of one per value, a quarter of the cost
          magnitude = 0.0_dp
+         !GCC$ unroll 1
          do i = 1, n
             f1 = r(i, 1)
             f2 = r(i, 2)
@@ -702,6 +716,7 @@ contains
 
          ! the size of the increments, and the new iterate (unused should the tests below fail)
          dyno = 0.0_dp
+         !GCC$ unroll 1
          do i = 1, n
             inverse = 1.0_dp/tolerance(i)
             z1 = r(i, 1)
@@ -812,16 +827,19 @@ contains
       ! go into its first two columns
       associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
          if (self%with_mass) then
+            !GCC$ unroll 1
             do i = 1, self%n
                self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
                stage_part(i) = 0.0_dp
             end do
             call self%mass%multiply_add(1.0_dp, self%stage, stage_part)
          else
+            !GCC$ unroll 1
             do i = 1, self%n
                stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
             end do
          end if
+         !GCC$ unroll 1
          do i = 1, self%n
             estimate(i) = stage_part(i) + self%rhs0(i)
          end do
@@ -859,6 +877,7 @@ contains
       if (.not. (self%have_stages .and. t == self%t_start .and. h == self%h_stages)) return
       if (self%have_polynomial .and. .not. self%retry) return
       refined = .true.
+      !GCC$ unroll 1
       do i = 1, self%n
          self%stage(i) = self%u_start(i) + delta(i)
       end do
@@ -867,6 +886,7 @@ contains
          call problem%rhs(t, self%stage, estimate)
          self%counters%f_evaluations = self%counters%f_evaluations + 1
          self%counters%g_evaluations = self%counters%g_evaluations + 1
+         !GCC$ unroll 1
          do i = 1, self%n
             estimate(i) = estimate(i) + stage_part(i)
          end do
