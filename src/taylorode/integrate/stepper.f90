@@ -60,11 +60,12 @@ module taylorode_integrate_stepper
    !> this fraction of the tolerance
    real(dp), parameter :: propagation_fraction = 0.1_dp
    !> For a scheme that amplifies errors: its locally extrapolated state is corrected to
-   !> the step's equation when leaving the correction would change the next step by
-   !> more than this fraction of the tolerance. Such changes can have one sign step
-   !> after step along a slow manifold: 1e-5 keeps 10,000 of them within a tenth of
-   !> the tolerance
-   real(dp), parameter :: correction_fraction = 1.0e-5_dp
+   !> the step's equation when what leaving the correction changes in the next step,
+   !> times the steps left to the end of the integration at this step size, exceeds
+   !> this fraction of the tolerance (such changes can have one sign step after step
+   !> along a slow manifold). The correction is computed only when what the next step
+   !> makes of the whole error estimate, times those steps, exceeds it
+   real(dp), parameter :: correction_budget = 0.1_dp, max_steps_left = 1.0e15_dp
    !> With step doubling, a scheme's filtered trapezoidal defect (2/3 D ~ 2 times the
    !> doubling estimate on a step that follows the solution) must stay within this many
    !> tolerances: on a spurious root of the step's equation it is of the size of the
@@ -101,6 +102,9 @@ module taylorode_integrate_stepper
       real(dp) :: newton_fraction = 0.0_dp
       !> Size of the previous accepted step (0 when there is none)
       real(dp) :: h_previous = 0.0_dp
+      !> Where the integration in progress ends (the steps left to it weigh what a
+      !> scheme that amplifies errors may leave uncorrected; 0: not given)
+      real(dp) :: t_target = 0.0_dp
       !> The error estimate in use (estimate_embedded, estimate_doubling or estimate_defect)
       integer :: estimate = estimate_embedded
       !> Step doubling: 1 / (2^p - 1), the Richardson factor of the difference
@@ -342,9 +346,10 @@ contains
       type(status_type), intent(inout) :: step_stat
       real(dp) :: factor, hold_low, hold_high, propagation
       integer :: i
-      logical :: refined
+      logical :: refined, delta_propagated
 
       h_next = h
+      delta_propagated = .false.
       call set_code(step_stat, status_ok)
       call self%set_weights(problem, options, u, u)
       ! never ask for more than roundoff allows, nor for a zero tolerance
@@ -410,7 +415,7 @@ contains
       if (scheme%amplifies_errors) then
          ! M^(-1) P delta, which the next step's solve leaves of P delta, only when P
          ! delta itself is too large (a solve saved at most steps)
-         call scheme%propagated_error(h, self%delta, self%propagated, filtered=.false.)
+         if (.not. delta_propagated) call scheme%propagated_error(h, self%delta, self%propagated, filtered=.false.)
          propagation = self%weighted_norm(problem, options, self%propagated)/propagation_fraction
          if (propagation > err) then
             call scheme%propagated_error(h, self%delta, self%propagated, filtered=.true.)
@@ -516,18 +521,32 @@ contains
          if (options%local_extrapolation) self%u_new = self%u_new + self%delta
       end subroutine take_doubled_step
 
-      !> Local extrapolation: u_new minus the scheme's estimate of its error; minus also
-      !> the scheme's correction of that state to the step's equation when leaving it
-      !> would change the next step by more than correction_fraction of the tolerance
-      !> (what its solve leaves of the correction, amplified).
+      !> Local extrapolation: u_new minus the scheme's estimate of its error; for a scheme
+      !> that amplifies errors minus also its correction of that state to the step's
+      !> equation, when what the next step makes of it (what its solve leaves of the
+      !> correction, amplified), times the steps left at this size, exceeds
+      !> correction_budget of the tolerance. P delta, of the estimate, is kept for the
+      !> error test.
       subroutine extrapolate_step()
          logical :: corrected
-         call scheme%extrapolate(problem, t, h, self%u_new, self%delta, self%correction, corrected)
+         real(dp) :: steps_left
+         self%u_new = self%u_new - self%delta
+         if (.not. scheme%amplifies_errors) return
+         ! (a count beyond 1e15 steps, or an end not given, counts as 1e15)
+         steps_left = max_steps_left
+         if (self%t_target > t) then
+            if (self%t_target - t < max_steps_left*h) steps_left = max(1.0_dp, (self%t_target - t)/h - 1.0_dp)
+         end if
+         call scheme%propagated_error(h, self%delta, self%propagated, filtered=.false.)
+         delta_propagated = .true.
+         if (steps_left*self%weighted_norm(problem, options, self%propagated) <= correction_budget) return
+         call scheme%extrapolation_correction(problem, t, h, self%u_new, self%correction, corrected)
          if (.not. corrected) return
+         delta_propagated = .false.
          call scheme%propagated_error(h, self%correction, self%propagated, filtered=.false.)
-         if (self%weighted_norm(problem, options, self%propagated) <= correction_fraction) return
+         if (steps_left*self%weighted_norm(problem, options, self%propagated) <= correction_budget) return
          call scheme%propagated_error(h, self%correction, self%propagated, filtered=.true.)
-         if (self%weighted_norm(problem, options, self%propagated) <= correction_fraction) return
+         if (steps_left*self%weighted_norm(problem, options, self%propagated) <= correction_budget) return
          self%u_new = self%u_new - self%correction
       end subroutine extrapolate_step
 

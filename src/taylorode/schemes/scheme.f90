@@ -129,8 +129,8 @@ module taylorode_schemes_scheme
       procedure :: propagated_error
       !> A second estimate of the step's error when the first failed the error test
       procedure :: refine_estimate
-      !> The step's state minus its estimated error (local extrapolation)
-      procedure :: extrapolate
+      !> The correction that puts a locally extrapolated state onto the step's equation
+      procedure :: extrapolation_correction
    end type scheme_type
 
    abstract interface
@@ -407,28 +407,25 @@ contains
       propagated = 0.0_dp
    end subroutine propagated_error
 
-   !> Local extrapolation of the step just taken (size h from t) to u1: u1 - error, error
-   !> the scheme's `step_error` of that step. A scheme whose step solves an equation may
-   !> also give the correction that puts u1 - error onto that equation offset by the
-   !> error (the integrator subtracts it when it matters); the default has none.
-   subroutine extrapolate(self, problem, t, h, u1, error, correction, corrected)
+   !> For a scheme whose step solves an equation: the correction that puts u1, the state
+   !> of the step just taken (size h from t) minus its `step_error` (local
+   !> extrapolation), onto that equation offset by the error (the integrator subtracts
+   !> it when leaving it would matter). The default has none.
+   subroutine extrapolation_correction(self, problem, t, h, u1, correction, corrected)
       !> The scheme
       class(scheme_type), intent(inout) :: self
       !> The problem
       class(ode_problem), intent(inout) :: problem
       !> Start and size of the step
       real(dp), intent(in) :: t, h
-      !> The step's state on entry, extrapolated on exit
-      real(dp), intent(inout) :: u1(:)
-      !> The step's estimated error
-      real(dp), intent(in) :: error(:)
+      !> The extrapolated state
+      real(dp), intent(in) :: u1(:)
       !> The correction, when `corrected`
       real(dp), contiguous, intent(inout) :: correction(:)
       !> Whether a correction was computed
       logical, intent(out) :: corrected
-      u1 = u1 - error
       corrected = .false.
-   end subroutine extrapolate
+   end subroutine extrapolation_correction
 
    !> A second estimate of the error of the step just taken (size h from t), asked for
    !> when its embedded estimate `delta` failed the error test, for schemes that declare

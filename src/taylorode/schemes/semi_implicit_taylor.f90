@@ -118,8 +118,8 @@ module taylorode_schemes_semi_implicit_taylor
       procedure :: step_error => semi_implicit_step_error
       !> si-t-2: h^2/2 J_f0 J_g0 e
       procedure :: propagated_error => semi_implicit_propagated_error
-      !> si-t-2: U1 minus its step error, corrected to the step's equation
-      procedure :: extrapolate => semi_implicit_extrapolate
+      !> si-t-2: the Newton correction of its locally extrapolated state
+      procedure :: extrapolation_correction => semi_implicit_extrapolation_correction
    end type semi_implicit_taylor_type
 
 contains
@@ -415,24 +415,22 @@ contains
       end associate
    end subroutine semi_implicit_step_error
 
-   !> si-t-2's local extrapolation U1 - M^(-1) e (e its step error before the filter, M
-   !> the step's Newton matrix) solves r(U) = -e, the step's equation offset by e, only
+   !> si-t-2's local extrapolation U = U1 - M^(-1) e (e its step error before the filter,
+   !> M the step's Newton matrix) solves r(U) = -e, the step's equation offset by e, only
    !> to first order, and M's J_g may be several steps old: in a stiff direction the
    !> rest can be large, and the next step's h^2/2 J_f0 F0 amplifies it (Van der Pol,
    !> mu = 1e6: kicks to y of a tenth of the tolerance, of one sign, step after step,
    !> until y ran away). The correction is one more Newton step with M, M^(-1) (r(U) +
-   !> e) at U = U1 - M^(-1) e; f and g evaluated there start the next step when it is
-   !> not applied. The other members, and an evaluation the problem rejects, give none.
-   subroutine semi_implicit_extrapolate(self, problem, t, h, u1, error, correction, corrected)
+   !> e); f and g evaluated at U start the next step when it is not applied. The other
+   !> members, and an evaluation the problem rejects, give none.
+   subroutine semi_implicit_extrapolation_correction(self, problem, t, h, u1, correction, corrected)
       class(semi_implicit_taylor_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t, h
-      real(dp), intent(inout) :: u1(:)
-      real(dp), intent(in) :: error(:)
+      real(dp), intent(in) :: u1(:)
       real(dp), contiguous, intent(inout) :: correction(:)
       logical, intent(out) :: corrected
       type(status_type) :: solve_stat
-      u1 = u1 - error
       corrected = .false.
       if (self%member /= si_t_2 .or. .not. self%known_unfiltered_error .or. t + h /= self%t_start) return
       self%known_unfiltered_error = .false.
@@ -455,7 +453,7 @@ contains
       end associate
       call self%newton(si_t_2)%apply_inverse(correction, self%counters, solve_stat)
       corrected = solve_stat%code == status_ok
-   end subroutine semi_implicit_extrapolate
+   end subroutine semi_implicit_extrapolation_correction
 
    !> propagated = h^2/2 J_f0 J_g0 error (filtered: M^(-1) times it), with the Jacobians
    !> and the Newton matrix M of the step just taken: what an error of its state adds
