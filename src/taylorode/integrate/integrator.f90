@@ -424,7 +424,6 @@ contains
       singular = 0
       last_failure = status_ok
       trouble_end = t
-      self%stepper%t_target = t_target
       do while (t < t_target)
          if (attempts >= self%options%max_steps) then
             write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", a)') &

@@ -59,13 +59,11 @@ module taylorode_integrate_stepper
    !> next step, which no estimate or local extrapolation removes, must stay within
    !> this fraction of the tolerance
    real(dp), parameter :: propagation_fraction = 0.1_dp
-   !> For a scheme that amplifies errors: its locally extrapolated state is corrected to
-   !> the step's equation when what leaving the correction changes in the next step,
-   !> times the steps left to the end of the integration at this step size, exceeds
-   !> this fraction of the tolerance (such changes can have one sign step after step
-   !> along a slow manifold). The correction is computed only when what the next step
-   !> makes of the whole error estimate, times those steps, exceeds it
-   real(dp), parameter :: correction_budget = 0.1_dp, max_steps_left = 1.0e15_dp
+   !> For a scheme that amplifies errors: what the next steps make of the corrections
+   !> of locally extrapolated states left out (they can have one sign step after step
+   !> along a slow manifold) adds up over the integration to at most this fraction of
+   !> the tolerance; beyond it each is applied (see extrapolate_step)
+   real(dp), parameter :: correction_budget = 0.1_dp
    !> With step doubling, a scheme's filtered trapezoidal defect (2/3 D ~ 2 times the
    !> doubling estimate on a step that follows the solution) must stay within this many
    !> tolerances: on a spurious root of the step's equation it is of the size of the
@@ -102,9 +100,9 @@ module taylorode_integrate_stepper
       real(dp) :: newton_fraction = 0.0_dp
       !> Size of the previous accepted step (0 when there is none)
       real(dp) :: h_previous = 0.0_dp
-      !> Where the integration in progress ends (the steps left to it weigh what a
-      !> scheme that amplifies errors may leave uncorrected; 0: not given)
-      real(dp) :: t_target = 0.0_dp
+      !> What the next steps made of the corrections left out so far, in the weighted
+      !> norm (schemes that amplify errors; see correction_budget)
+      real(dp) :: uncorrected = 0.0_dp
       !> The error estimate in use (estimate_embedded, estimate_doubling or estimate_defect)
       integer :: estimate = estimate_embedded
       !> Step doubling: 1 / (2^p - 1), the Richardson factor of the difference
@@ -193,6 +191,7 @@ contains
       call sized(self%violation, merge(n, 0, allocated(options%nonnegative)), what, stat)
       call sized(self%propagated, merge(n, 0, scheme%amplifies_errors), what, stat)
       call sized(self%correction, merge(n, 0, scheme%amplifies_errors), what, stat)
+      self%uncorrected = 0.0_dp
       call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling), what, stat)
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling), what, stat)
@@ -523,30 +522,38 @@ contains
 
       !> Local extrapolation: u_new minus the scheme's estimate of its error; for a scheme
       !> that amplifies errors minus also its correction of that state to the step's
-      !> equation, when what the next step makes of it (what its solve leaves of the
-      !> correction, amplified), times the steps left at this size, exceeds
-      !> correction_budget of the tolerance. P delta, of the estimate, is kept for the
-      !> error test.
+      !> equation, once what the next steps made of the corrections left out would
+      !> exceed correction_budget of the tolerance. What the next step makes of a
+      !> correction left out is measured by what its solve leaves of it, amplified (P c,
+      !> filtered), or, when the correction is not computed, by P delta of the whole
+      !> estimate (in the stiff directions the correction is of the estimate's size), kept
+      !> for the error test. An attempt that the error test rejects afterwards still
+      !> counts (the sum only errs on the side of correcting).
       subroutine extrapolate_step()
          logical :: corrected
-         real(dp) :: steps_left
+         real(dp) :: left_out
          self%u_new = self%u_new - self%delta
          if (.not. scheme%amplifies_errors) return
-         ! (a count beyond 1e15 steps, or an end not given, counts as 1e15)
-         steps_left = max_steps_left
-         if (self%t_target > t) then
-            if (self%t_target - t < max_steps_left*h) steps_left = max(1.0_dp, (self%t_target - t)/h - 1.0_dp)
-         end if
          call scheme%propagated_error(h, self%delta, self%propagated, filtered=.false.)
          delta_propagated = .true.
-         if (steps_left*self%weighted_norm(problem, options, self%propagated) <= correction_budget) return
+         left_out = self%weighted_norm(problem, options, self%propagated)
+         if (self%uncorrected + left_out <= correction_budget) then
+            self%uncorrected = self%uncorrected + left_out
+            return
+         end if
          call scheme%extrapolation_correction(problem, t, h, self%u_new, self%correction, corrected)
          if (.not. corrected) return
          delta_propagated = .false.
          call scheme%propagated_error(h, self%correction, self%propagated, filtered=.false.)
-         if (steps_left*self%weighted_norm(problem, options, self%propagated) <= correction_budget) return
-         call scheme%propagated_error(h, self%correction, self%propagated, filtered=.true.)
-         if (steps_left*self%weighted_norm(problem, options, self%propagated) <= correction_budget) return
+         left_out = self%weighted_norm(problem, options, self%propagated)
+         if (self%uncorrected + left_out > correction_budget) then
+            call scheme%propagated_error(h, self%correction, self%propagated, filtered=.true.)
+            left_out = self%weighted_norm(problem, options, self%propagated)
+         end if
+         if (self%uncorrected + left_out <= correction_budget) then
+            self%uncorrected = self%uncorrected + left_out
+            return
+         end if
          self%u_new = self%u_new - self%correction
       end subroutine extrapolate_step
 
