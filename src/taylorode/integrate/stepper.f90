@@ -542,7 +542,8 @@ contains
             return
          end if
          call scheme%extrapolation_correction(problem, t, h, self%u_new, self%correction, corrected)
-         if (.not. corrected) return
+         ! every process has a correction or none goes on (the norms below are collective)
+         if (reduced_max(problem, merge(0.0_dp, 1.0_dp, corrected)) > 0.0_dp) return
          delta_propagated = .false.
          call scheme%propagated_error(h, self%correction, self%propagated, filtered=.false.)
          left_out = self%weighted_norm(problem, options, self%propagated)
