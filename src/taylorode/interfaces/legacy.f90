@@ -780,14 +780,13 @@ contains
       call call_fcn(self, self%fcn_g, t, u, dudt)
    end subroutine legacy_g
 
-   !> F = f + g: FCN alone in one call (TAYLORODE; the call written out here, the hot
-   !> path of radau5), or FCNF and FCNG added.
+   !> F = f + g: FCN alone in one call (TAYLORODE; legacy_rhs_values), or FCNF and FCNG
+   !> added.
    subroutine legacy_rhs(self, t, u, dudt)
       class(legacy_problem_type), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp) :: x
-      integer :: i, n
+      integer :: i
       if (self%has_f .or. self%flag > 0) then
          call call_fcn(self, self%fcn_g, t, u, dudt)
          if (.not. self%has_f) return
@@ -797,16 +796,11 @@ contains
          end do
          return
       end if
-      x = t
-      n = size(u)
-      do i = 1, n
-         self%x_state(i) = u(i)
-      end do
-      call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
+      call legacy_rhs_values(self, size(u), t, u, dudt)
    end subroutine legacy_rhs
 
-   !> F = f + g of n unknowns: FCN alone called here with the state copied (radau5's
-   !> stages), else legacy_rhs.
+   !> F = f + g of n unknowns: FCN alone called here with the state copied, no array
+   !> descriptors (the hot path of radau5's stages), else legacy_rhs.
    subroutine legacy_rhs_values(self, n, t, u, dudt)
       class(legacy_problem_type), intent(inout) :: self
       integer, intent(in) :: n
