@@ -88,6 +88,7 @@ contains
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
+         new_unittest("measured-times", test_measured_times), &
          new_unittest("library-defaults-on-paper-problem", test_library_defaults), &
          new_unittest("extrapolated-step-stability", test_extrapolated_stability), &
          new_unittest("i-t-2-jacobians-at-newton-matrices", test_it2_jacobians) &
@@ -908,6 +909,42 @@ contains
       close (unit, status="delete")
       call check(error, lines, history%count + 1, "CSV lines")
    end subroutine test_step_history
+
+   !> stats%cpu_seconds and stats%wall_seconds measure the call (a run of a few
+   !> thousand steps takes milliseconds, far above the clocks' resolution), and are 0
+   !> with options%measure_time off.
+   subroutine test_measured_times(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      integer :: run
+
+      problem = new_van_der_pol(1000.0_dp)
+      call new_scheme("si-t-2", scheme, stat)
+      options%rtol = 1.0e-6_dp
+      options%atol = 1.0e-6_dp
+      do run = 1, 2
+         options%measure_time = run == 1
+         u = van_der_pol_initial_state(vdp_ic_unprepared)
+         call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         call check(error, stats%accepted_steps > 1000, "a run of more than 1000 steps")
+         if (allocated(error)) return
+         if (options%measure_time) then
+            call check(error, stats%wall_seconds > 0.0_dp .and. stats%cpu_seconds >= 0.0_dp, &
+               "times measured")
+         else
+            call check(error, stats%wall_seconds == 0.0_dp .and. stats%cpu_seconds == 0.0_dp, &
+               "no times without measure_time")
+         end if
+         if (allocated(error)) return
+      end do
+   end subroutine test_measured_times
 
    subroutine poisoned_f(self, t, u, dudt)
       class(poisoned_problem), intent(inout) :: self

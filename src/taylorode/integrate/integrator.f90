@@ -385,8 +385,10 @@ contains
       logical :: last, need_step, stop_here, rhs_pending, prebuilt
       character(len=400) :: text
 
-      call system_clock(clock_start, clock_rate)
-      call cpu_time(cpu_start)
+      if (self%options%measure_time) then
+         call system_clock(clock_start, clock_rate)
+         call cpu_time(cpu_start)
+      end if
       work_before = scheme%counters
       t = self%t
       call_stats%t_reached = t
@@ -835,10 +837,12 @@ contains
          call add_work(call_stats, scheme%counters, work_before)
          if (call_stats%accepted_steps == 0) call_stats%h_min_accepted = 0.0_dp
          call_stats%weights_raised = self%stepper%weights_raised
-         call cpu_time(cpu_end)
-         call system_clock(clock_end)
-         call_stats%cpu_seconds = cpu_end - cpu_start
-         call_stats%wall_seconds = real(clock_end - clock_start, dp)/real(max(clock_rate, 1_i8), dp)
+         if (self%options%measure_time) then
+            call cpu_time(cpu_end)
+            call system_clock(clock_end)
+            call_stats%cpu_seconds = cpu_end - cpu_start
+            call_stats%wall_seconds = real(clock_end - clock_start, dp)/real(max(clock_rate, 1_i8), dp)
+         end if
          call accumulate(self%total, call_stats)
          if (present(stats)) stats = call_stats
       end subroutine finish

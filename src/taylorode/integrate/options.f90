@@ -142,6 +142,10 @@ module taylorode_integrate_options
       integer :: advance = advance_scheme
       !> With a step history: also record the state after every attempt
       logical :: history_states = .false.
+      !> Measure the call's CPU and wall-clock seconds (stats%cpu_seconds,
+      !> stats%wall_seconds); off: both are 0 and the call saves its two CPU-time
+      !> system calls (about a microsecond, which matters only to many short calls)
+      logical :: measure_time = .true.
    end type scalar_options_type
 
    !> Settings of `integrate`: the single values of scalar_options_type and the

@@ -427,6 +427,8 @@ contains
          reason = reason_budget_setting
          if (iwork(2) < 0) return
          options%max_steps = merge(default_budget, iwork(2), iwork(2) == 0)
+         ! nowhere in RADAU5's arguments to report times
+         options%measure_time = .false.
          ! IWORK(3): Newton iterations per step (0: the scheme's own, RADAU5's 7 for radau5)
          reason = reason_newton_setting
          if (iwork(3) < 0) return
