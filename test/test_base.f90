@@ -153,7 +153,7 @@ contains
    !> for every order up to 24, on pseudo-random matrices that need row interchanges.
    subroutine test_pair_solve(error)
       type(error_type), allocatable, intent(out) :: error
-      real(dp), allocatable :: a(:, :), inverse(:), b(:), x(:), re(:), im(:)
+      real(dp), allocatable :: a(:, :), inverse(:), b(:), x(:), rhs(:, :)
       complex(dp), allocatable :: c(:, :), lu(:, :), c_inverse(:), d(:), z(:)
       integer, allocatable :: pivots(:), c_pivots(:), lapack_pivots(:)
       integer :: n, i, j, info
@@ -163,7 +163,7 @@ contains
       state = 20261125_i8
       do n = 1, 24
          label = "n = "//format_integer(n)
-         allocate (a(n, n), inverse(n), b(n), x(n), re(n), im(n), c(n, n), lu(n, n), c_inverse(n), d(n), z(n), &
+         allocate (a(n, n), inverse(n), b(n), x(n), rhs(n, 3), c(n, n), lu(n, n), c_inverse(n), d(n), z(n), &
             pivots(n), c_pivots(n), lapack_pivots(n))
          do j = 1, n
             do i = 1, n
@@ -181,16 +181,17 @@ contains
          call small_lu_solve(a, pivots, x, inverse)
          z = d
          call complex_lu_solve(lu, lapack_pivots, z, info)
-         ! the solutions of the pair solve: b into b, d into re and im
-         re = d%re
-         im = d%im
-         call small_lu_solve_pair(a, pivots, inverse, c, c_pivots, c_inverse, b, re, im)
-         call check(error, all(b == x), label//": the real solution differs from small_lu_solve")
+         ! the right-hand sides of the pair solve: b, and d's real and imaginary parts
+         rhs(:, 1) = b
+         rhs(:, 2) = d%re
+         rhs(:, 3) = d%im
+         call small_lu_solve_pair(n, a, pivots, inverse, c, c_pivots, c_inverse, rhs(:, 1), rhs(:, 2), rhs(:, 3))
+         call check(error, all(rhs(:, 1) == x), label//": the real solution differs from small_lu_solve")
          if (allocated(error)) return
-         call check(error, maxval(abs(cmplx(re, im, dp) - z)) <= 1.0e-13_dp*maxval(abs(z)), &
+         call check(error, maxval(abs(cmplx(rhs(:, 2), rhs(:, 3), dp) - z)) <= 1.0e-13_dp*maxval(abs(z)), &
             label//": the complex solution differs from zgetrs")
          if (allocated(error)) return
-         deallocate (a, inverse, b, x, re, im, c, lu, c_inverse, d, z, pivots, c_pivots, lapack_pivots)
+         deallocate (a, inverse, b, x, rhs, c, lu, c_inverse, d, z, pivots, c_pivots, lapack_pivots)
       end do
    end subroutine test_pair_solve
 

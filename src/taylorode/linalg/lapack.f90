@@ -524,28 +524,30 @@ contains
    !> the solution kept as real and imaginary parts) with the factors of
    !> `small_lu_factor` (and its reciprocal pivots) in one pass over the rows: the two
    !> Newton systems of Radau IIA on small dense problems, where the loops cost more
-   !> than their arithmetic. Each value is computed as `small_lu_solve` computes it.
-   pure subroutine small_lu_solve_pair(a, a_pivots, a_inverse_diagonal, c, c_pivots, c_inverse_diagonal, x, re, im)
+   !> than their arithmetic (and array descriptors more than the loops: the arguments
+   !> are explicit-shape). Each value is computed as `small_lu_solve` computes it.
+   pure subroutine small_lu_solve_pair(n, a, a_pivots, a_inverse_diagonal, c, c_pivots, c_inverse_diagonal, x, re, im)
+      !> Order of the systems
+      integer, intent(in) :: n
       !> LU factors of the real matrix
-      real(dp), contiguous, intent(in) :: a(:, :)
+      real(dp), intent(in) :: a(n, n)
       !> Its pivot indices
-      integer, contiguous, intent(in) :: a_pivots(:)
+      integer, intent(in) :: a_pivots(n)
       !> Its 1/U(k, k)
-      real(dp), contiguous, intent(in) :: a_inverse_diagonal(:)
+      real(dp), intent(in) :: a_inverse_diagonal(n)
       !> LU factors of the complex matrix
-      complex(dp), contiguous, intent(in) :: c(:, :)
+      complex(dp), intent(in) :: c(n, n)
       !> Its pivot indices
-      integer, contiguous, intent(in) :: c_pivots(:)
+      integer, intent(in) :: c_pivots(n)
       !> Its 1/U(k, k)
-      complex(dp), contiguous, intent(in) :: c_inverse_diagonal(:)
+      complex(dp), intent(in) :: c_inverse_diagonal(n)
       !> Real right-hand side on entry, solution on exit
-      real(dp), contiguous, intent(inout) :: x(:)
+      real(dp), intent(inout) :: x(n)
       !> Real and imaginary parts of the complex right-hand side on entry, of the solution on exit
-      real(dp), contiguous, intent(inout) :: re(:), im(:)
-      integer :: n, i, k, p
+      real(dp), intent(inout) :: re(n), im(n)
+      integer :: i, k, p
       real(dp) :: swap, bk, br, bi, lr, li
 
-      n = size(a, 1)
       !GCC$ unroll 1
       do k = 1, n
          p = a_pivots(k)

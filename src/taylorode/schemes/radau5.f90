@@ -702,7 +702,7 @@ contains
             return
          end if
          if (self%small) then
-            call small_lu_solve_pair(self%small_matrix, self%small_pivots, self%small_inverse_diagonal, &
+            call small_lu_solve_pair(n, self%small_matrix, self%small_pivots, self%small_inverse_diagonal, &
                self%small_complex, self%small_complex_pivots, self%small_complex_inverse_diagonal, &
                r(:, 1), r(:, 2), r(:, 3))
          else
