@@ -512,8 +512,8 @@ contains
       type(radau5_type), intent(inout) :: self
       real(dp), intent(in) :: h
       type(status_type), intent(inout) :: stat
-      integer :: info, i, j
-      real(dp) :: entry, fac1
+      integer :: info
+      real(dp) :: fac1
       complex(dp) :: shift
 
       self%factored = .false.
@@ -522,19 +522,8 @@ contains
       if (self%small) then
          select type (jac => self%jac)
          type is (dense_matrix_type)
-            !GCC$ unroll 1
-            do j = 1, self%n
-               !GCC$ unroll 1
-               do i = 1, self%n
-                  entry = -jac%a(i, j)
-                  self%small_matrix(i, j) = entry
-                  self%small_complex(i, j) = cmplx(entry, 0.0_dp, dp)
-               end do
-               if (.not. self%with_mass) then
-                  self%small_matrix(j, j) = self%small_matrix(j, j) + fac1
-                  self%small_complex(j, j) = self%small_complex(j, j) + shift
-               end if
-            end do
+            call shifted_matrices(self%n, jac%a, .not. self%with_mass, fac1, shift, self%small_matrix, &
+               self%small_complex)
          end select
          if (self%with_mass) then
             select type (mass => self%mass)
@@ -573,6 +562,42 @@ contains
       self%factored = .true.
       self%h_factored = h
    end subroutine factor_matrices
+
+   !> -J and -J + 0 i, plus fac1 I and shift I when `shifted` (without a mass matrix):
+   !> the two Newton matrices of a small dense system before their factorization. The
+   !> arrays are explicit-shape: through the scheme's components every entry reloaded
+   !> their descriptors, which cost more than the copy on a few unknowns.
+   pure subroutine shifted_matrices(n, jac, shifted, fac1, shift, real_matrix, complex_matrix)
+      !> Order
+      integer, intent(in) :: n
+      !> J
+      real(dp), intent(in) :: jac(n, n)
+      !> Whether to add the shifts (the mass matrix is added otherwise, afterwards)
+      logical, intent(in) :: shifted
+      !> gamma/h, the real matrix's shift
+      real(dp), intent(in) :: fac1
+      !> (alpha + i beta)/h, the complex matrix's shift
+      complex(dp), intent(in) :: shift
+      !> fac1 I - J
+      real(dp), intent(out) :: real_matrix(n, n)
+      !> shift I - J
+      complex(dp), intent(out) :: complex_matrix(n, n)
+      integer :: i, j
+      real(dp) :: entry
+      !GCC$ unroll 1
+      do j = 1, n
+         !GCC$ unroll 1
+         do i = 1, n
+            entry = -jac(i, j)
+            real_matrix(i, j) = entry
+            complex_matrix(i, j) = cmplx(entry, 0.0_dp, dp)
+         end do
+         if (shifted) then
+            real_matrix(j, j) = real_matrix(j, j) + fac1
+            complex_matrix(j, j) = complex_matrix(j, j) + shift
+         end if
+      end do
+   end subroutine shifted_matrices
 
    !> x = ((gamma/h) I - J)^(-1) x with the kept factors.
    subroutine solve_real(self, x, stat)
