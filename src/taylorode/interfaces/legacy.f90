@@ -724,7 +724,7 @@ contains
       integer :: n
       x = t
       n = size(u)
-      self%x_state = u
+      call copy_state(n, u, self%x_state)
       if (self%flag > 0) self%ipar(self%flag) = 0
       call fcn(n, x, self%x_state, dudt, self%rpar, self%ipar)
       if (self%flag > 0) then
@@ -747,7 +747,7 @@ contains
       x = t
       n = size(u)
       ldfy = size(jac, 1)
-      self%x_state = u
+      call copy_state(n, u, self%x_state)
       if (self%flag > 0) self%ipar(self%flag) = 0
       call jac_user(n, x, self%x_state, jac, ldfy, self%rpar, self%ipar)
       if (self%flag > 0) then
@@ -809,17 +809,27 @@ contains
       real(dp), intent(in) :: t, u(n)
       real(dp), intent(out) :: dudt(n)
       real(dp) :: x
-      integer :: i
       if (self%has_f .or. self%flag > 0) then
          call legacy_rhs(self, t, u, dudt)
          return
       end if
       x = t
-      do i = 1, n
-         self%x_state(i) = u(i)
-      end do
+      call copy_state(n, u, self%x_state)
       call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
    end subroutine legacy_rhs_values
+
+   !> copy = u, through explicit-shape arrays: through the problem's component the loop
+   !> reloaded its descriptor for every entry, which on a few unknowns cost more than FCN.
+   pure subroutine copy_state(n, u, copy)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: u(n)
+      real(dp), intent(out) :: copy(n)
+      integer :: i
+      !GCC$ unroll 1
+      do i = 1, n
+         copy(i) = u(i)
+      end do
+   end subroutine copy_state
 
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
    subroutine legacy_jac_f(self, t, u, jac)
