@@ -809,17 +809,22 @@ contains
       real(dp), intent(in) :: t, u(n)
       real(dp), intent(out) :: dudt(n)
       real(dp) :: x
+      integer :: i
       if (self%has_f .or. self%flag > 0) then
          call legacy_rhs(self, t, u, dudt)
          return
       end if
       x = t
-      call copy_state(n, u, self%x_state)
+      ! a loop, not copy_state: through the component gcc cannot prove the arrays apart
+      ! and keeps the loop, where copy_state's becomes a call of memcpy, slower on a few
+      ! unknowns (this is radau5's stage evaluation)
+      do i = 1, n
+         self%x_state(i) = u(i)
+      end do
       call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
    end subroutine legacy_rhs_values
 
-   !> copy = u, through explicit-shape arrays: through the problem's component the loop
-   !> reloaded its descriptor for every entry, which on a few unknowns cost more than FCN.
+   !> copy = u (FCN's and JAC's copy of the state; explicit-shape arrays: no descriptor)
    pure subroutine copy_state(n, u, copy)
       integer, intent(in) :: n
       real(dp), intent(in) :: u(n)
