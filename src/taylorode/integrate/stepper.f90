@@ -263,26 +263,20 @@ contains
             if (.not. ieee_is_finite(self%weights(i))) self%weights(i) = 0.0_dp
          end do
       end if
-      if (allocated(options%error_weights) .or. allocated(options%atol_vector) .or. &
-         allocated(options%rtol_vector)) then
-         atol_i = options%atol
-         rtol_i = options%rtol
-         do i = 1, size(a)
-            size_i = max(abs(a(i)), abs(b(i)))
-            if (.not. allocated(options%error_weights)) then
-               if (allocated(options%atol_vector)) atol_i = options%atol_vector(i)
-               if (allocated(options%rtol_vector)) rtol_i = options%rtol_vector(i)
-               self%weights(i) = atol_i + rtol_i*size_i
-            end if
-            if (self%weights(i) < roundoff_weight*size_i) then
-               self%weights(i) = roundoff_weight*size_i
-               self%weights_raised = .true.
-            end if
-         end do
-      else
-         call scalar_tolerance_weights(size(a), options%atol, options%rtol, a, b, self%weights, &
-            self%weights_raised)
-      end if
+      atol_i = options%atol
+      rtol_i = options%rtol
+      do i = 1, size(a)
+         size_i = max(abs(a(i)), abs(b(i)))
+         if (.not. allocated(options%error_weights)) then
+            if (allocated(options%atol_vector)) atol_i = options%atol_vector(i)
+            if (allocated(options%rtol_vector)) rtol_i = options%rtol_vector(i)
+            self%weights(i) = atol_i + rtol_i*size_i
+         end if
+         if (self%weights(i) < roundoff_weight*size_i) then
+            self%weights(i) = roundoff_weight*size_i
+            self%weights_raised = .true.
+         end if
+      end do
       if (.not. self%zero_atol) return
       scale = 0.0_dp
       do i = 1, size(a)
@@ -296,39 +290,6 @@ contains
          self%weights(i) = max(rtol_i, roundoff_weight)*max(scale, 1.0_dp)
       end do
    end subroutine set_weights
-
-   !> w_i = atol + rtol max(|a_i|, |b_i|), at least roundoff_weight max(|a_i|, |b_i|)
-   !> (raised set when one was raised): set_weights with scalar tolerances, through
-   !> explicit-shape arrays (through the stepper's component every entry reloaded its
-   !> descriptor, which on a few unknowns cost more than the arithmetic).
-   pure subroutine scalar_tolerance_weights(n, atol, rtol, a, b, weights, raised)
-      integer, intent(in) :: n
-      real(dp), intent(in) :: atol, rtol, a(n), b(n)
-      real(dp), intent(out) :: weights(n)
-      logical, intent(inout) :: raised
-      real(dp) :: size_i
-      integer :: i
-      do i = 1, n
-         size_i = max(abs(a(i)), abs(b(i)))
-         weights(i) = atol + rtol*size_i
-         if (weights(i) < roundoff_weight*size_i) then
-            weights(i) = roundoff_weight*size_i
-            raised = .true.
-         end if
-      end do
-   end subroutine scalar_tolerance_weights
-
-   !> Newton's tolerances: fraction w_i, never below what roundoff resolves at u_i nor 0
-   !> (explicit-shape, as scalar_tolerance_weights).
-   pure subroutine newton_tolerances(n, fraction, weights, u, tolerance)
-      integer, intent(in) :: n
-      real(dp), intent(in) :: fraction, weights(n), u(n)
-      real(dp), intent(out) :: tolerance(n)
-      integer :: i
-      do i = 1, n
-         tolerance(i) = max(fraction*weights(i), newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
-      end do
-   end subroutine newton_tolerances
 
    !> Max or RMS norm of v / w (over every process that holds a part of v).
    real(dp) function weighted_norm(self, problem, options, v)
@@ -391,7 +352,10 @@ contains
       call set_code(step_stat, status_ok)
       call self%set_weights(problem, options, u, u)
       ! never ask for more than roundoff allows, nor for a zero tolerance
-      call newton_tolerances(size(u), self%newton_fraction, self%weights, u, self%newton%tolerance)
+      do i = 1, size(u)
+         self%newton%tolerance(i) = max(self%newton_fraction*self%weights(i), &
+            newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
+      end do
       if (self%estimate == estimate_doubling) then
          do i = 1, size(u)
             self%newton_whole%tolerance(i) = max(self%newton%tolerance(i), self%whole_newton_fraction*self%weights(i))

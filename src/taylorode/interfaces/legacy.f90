@@ -724,7 +724,7 @@ contains
       integer :: n
       x = t
       n = size(u)
-      call copy_state(n, u, self%x_state)
+      self%x_state = u
       if (self%flag > 0) self%ipar(self%flag) = 0
       call fcn(n, x, self%x_state, dudt, self%rpar, self%ipar)
       if (self%flag > 0) then
@@ -747,7 +747,7 @@ contains
       x = t
       n = size(u)
       ldfy = size(jac, 1)
-      call copy_state(n, u, self%x_state)
+      self%x_state = u
       if (self%flag > 0) self%ipar(self%flag) = 0
       call jac_user(n, x, self%x_state, jac, ldfy, self%rpar, self%ipar)
       if (self%flag > 0) then
@@ -815,26 +815,14 @@ contains
          return
       end if
       x = t
-      ! a loop, not copy_state: through the component gcc cannot prove the arrays apart
-      ! and keeps the loop, where copy_state's becomes a call of memcpy, slower on a few
-      ! unknowns (this is radau5's stage evaluation)
+      ! a loop through the component, which gcc cannot prove apart from u: it keeps the
+      ! loop, where a copy between arrays it can tell apart becomes a call of memcpy,
+      ! slower on a few unknowns (this is radau5's stage evaluation)
       do i = 1, n
          self%x_state(i) = u(i)
       end do
       call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
    end subroutine legacy_rhs_values
-
-   !> copy = u (FCN's and JAC's copy of the state; explicit-shape arrays: no descriptor)
-   pure subroutine copy_state(n, u, copy)
-      integer, intent(in) :: n
-      real(dp), intent(in) :: u(n)
-      real(dp), intent(out) :: copy(n)
-      integer :: i
-      !GCC$ unroll 1
-      do i = 1, n
-         copy(i) = u(i)
-      end do
-   end subroutine copy_state
 
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
    subroutine legacy_jac_f(self, t, u, jac)
