@@ -62,17 +62,17 @@ contains
          x = b
          call lu_solve(lu, pivots, x, info_lapack)
          y = b
-         call small_lu_solve(a, band_pivots, y)
+         call small_lu_solve(n, a, band_pivots, y)
          call check(error, all(x == y), label//": solution differs from dgetrs")
          if (allocated(error)) return
          y = b
-         call small_lu_solve(a, band_pivots, y, inverse)
+         call small_lu_solve(n, a, band_pivots, y, inverse)
          call check(error, maxval(abs(x - y)) <= 1.0e-13_dp*maxval(abs(x)), label//": reciprocal pivots")
          if (allocated(error)) return
          do k = 1, merge(200, 1, n <= 4)
             if (k > 1) b = [(next_value(state), i=1, n)]
             y = b
-            call small_lu_solve(a, band_pivots, y, inverse)
+            call small_lu_solve(n, a, band_pivots, y, inverse)
             x = b
             call substitute_by_columns(a, band_pivots, inverse, x)
             call check(error, all(x == y), label//": reciprocal pivots differ from the column-by-column substitution")
@@ -178,7 +178,7 @@ contains
          call small_lu_factor(c, c_pivots, info, c_inverse)
          call small_lu_factor(a, pivots, info, inverse)
          x = b
-         call small_lu_solve(a, pivots, x, inverse)
+         call small_lu_solve(n, a, pivots, x, inverse)
          z = d
          call complex_lu_solve(lu, lapack_pivots, z, info)
          ! the right-hand sides of the pair solve: b, and d's real and imaginary parts

@@ -464,21 +464,22 @@ contains
    end subroutine small_lu_factor_real
 
    !> Solve A x = b with the factors from `small_lu_factor` (or `lu_factor`).
-   pure subroutine small_lu_solve_real(lu, ipiv, b, inverse_diagonal)
+   pure subroutine small_lu_solve_real(n, lu, ipiv, b, inverse_diagonal)
+      !> Order
+      integer, intent(in) :: n
       !> LU factors
-      real(dp), contiguous, intent(in) :: lu(:, :)
+      real(dp), intent(in) :: lu(n, n)
       !> Pivot indices
-      integer, contiguous, intent(in) :: ipiv(:)
+      integer, intent(in) :: ipiv(n)
       !> Right-hand side on entry, solution on exit
-      real(dp), contiguous, intent(inout) :: b(:)
+      real(dp), intent(inout) :: b(n)
       !> 1/U(k, k) from `small_lu_factor`: multiplied instead of dividing by U(k, k)
-      real(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
-      integer :: n, i, k
+      real(dp), intent(in), optional :: inverse_diagonal(n)
+      integer :: i, k
       real(dp) :: swap, bk
 
-      n = size(lu, 1)
       if (present(inverse_diagonal) .and. n <= 4) then
-         call tiny_lu_solve(lu, ipiv, b, inverse_diagonal)
+         call tiny_lu_solve(n, lu, ipiv, b, inverse_diagonal)
          return
       end if
       !GCC$ unroll 1
@@ -610,17 +611,19 @@ contains
    !> `small_lu_solve_real` (with 1/U(k, k)) for n <= 4, statement by statement: the row
    !> interchanges, then the forward and back substitution; the same operations in the
    !> same order, so the same numbers bit for bit.
-   pure subroutine tiny_lu_solve(lu, ipiv, b, inverse_diagonal)
-      !> LU factors, n x n with n <= 4
-      real(dp), contiguous, intent(in) :: lu(:, :)
+   pure subroutine tiny_lu_solve(n, lu, ipiv, b, inverse_diagonal)
+      !> Order, at most 4
+      integer, intent(in) :: n
+      !> LU factors
+      real(dp), intent(in) :: lu(n, n)
       !> Pivot indices
-      integer, contiguous, intent(in) :: ipiv(:)
+      integer, intent(in) :: ipiv(n)
       !> Right-hand side on entry, solution on exit
-      real(dp), contiguous, intent(inout) :: b(:)
+      real(dp), intent(inout) :: b(n)
       !> 1/U(k, k)
-      real(dp), contiguous, intent(in) :: inverse_diagonal(:)
+      real(dp), intent(in) :: inverse_diagonal(n)
       real(dp) :: b1, b2, b3, b4
-      select case (size(b))
+      select case (n)
       case (2)
          call interchange(b, 1)
       case (3)
@@ -632,7 +635,7 @@ contains
          call interchange(b, 3)
       end select
       ! (the last row has no other row left to interchange with: ipiv(n) = n)
-      select case (size(b))
+      select case (n)
       case (1)
          b(1) = b(1)*inverse_diagonal(1)
       case (2)

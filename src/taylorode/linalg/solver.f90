@@ -155,7 +155,7 @@ contains
          select type (a => self%matrix)
          type is (dense_matrix_type)
             if (a%n <= small_lu_max_order) then
-               call small_lu_solve(a%a, self%pivots, x, self%inverse_diagonal)
+               call small_lu_solve(a%n, a%a, self%pivots, x, self%inverse_diagonal)
                info = 0
             else
                call lu_solve(a%a, self%pivots, x, info)
@@ -197,7 +197,7 @@ contains
                b(2*i - 1) = x(i)
                b(2*i) = 0.0_dp
             end do
-            call small_lu_solve(a%a, self%pivots, b(:2*m), self%inverse_diagonal)
+            call small_lu_solve(2*m, a%a, self%pivots, b, self%inverse_diagonal)
             do i = 1, m
                x(i) = b(2*i - 1)
             end do

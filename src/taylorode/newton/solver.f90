@@ -304,7 +304,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, known, fresh, first, below_rounding, estimated
+      logical :: rebuild, known, fresh, first, below_rounding, estimated, finite
       real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
@@ -346,13 +346,11 @@ contains
          end if
          ! the residual is finite (else f or g gave NaN or Inf); its negative is the
          ! right-hand side of the Newton correction
-         do i = 1, m
-            if (.not. ieee_is_finite(self%increment(i))) then
-               call set_code(stat, status_nonfinite)
-               return
-            end if
-            self%increment(i) = -self%increment(i)
-         end do
+         call negate_finite(m, self%increment, finite)
+         if (.not. finite) then
+            call set_code(stat, status_nonfinite)
+            return
+         end if
          if (rebuild) then
             ! a new matrix: its contraction is measured afresh
             size_before = huge(1.0_dp)
@@ -370,18 +368,12 @@ contains
          counters%linear_solves = counters%linear_solves + 1
          if (stat%code /= status_ok) return
          ! the update and the size of the increment in the tolerances
-         size_now = 0.0_dp
-         below_rounding = .true.
-         do i = 1, m
-            u(i) = u(i) + self%increment(i)
-            below_rounding = below_rounding .and. abs(self%increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i))
-            if (.not. ieee_is_finite(u(i))) then
-               call set_code(stat, status_newton_diverged)
-               self%kept(slot)%linear%factored = .false.
-               return
-            end if
-            size_now = max(size_now, abs(self%increment(i))*self%inverse_tolerance(i))
-         end do
+         call add_increment(m, self%increment, self%inverse_tolerance, u, size_now, below_rounding, finite)
+         if (.not. finite) then
+            call set_code(stat, status_newton_diverged)
+            self%kept(slot)%linear%factored = .false.
+            return
+         end if
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
          known = size_before > 0.0_dp
@@ -521,5 +513,49 @@ contains
       end subroutine converged
 
    end subroutine solve
+
+
+   !> v = -v, stopping at the first entry that is not finite (finite false); explicit-shape
+   !> so that the loop does not reload the solver's descriptors at every entry (on a few
+   !> unknowns that cost more than the arithmetic).
+   pure subroutine negate_finite(m, v, finite)
+      integer, intent(in) :: m
+      real(dp), intent(inout) :: v(m)
+      logical, intent(out) :: finite
+      integer :: i
+      finite = .false.
+      !GCC$ unroll 1
+      do i = 1, m
+         if (.not. ieee_is_finite(v(i))) return
+         v(i) = -v(i)
+      end do
+      finite = .true.
+   end subroutine negate_finite
+
+   !> u = u + increment, entry by entry, stopping at the first u_i that is not finite
+   !> (finite false); size_now = max_i |increment_i| / tolerance_i, below_rounding whether
+   !> every |increment_i| is within rounding_ulps ulps of |u_i| (explicit-shape, as
+   !> negate_finite).
+   pure subroutine add_increment(m, increment, inverse_tolerance, u, size_now, below_rounding, finite)
+      integer, intent(in) :: m
+      real(dp), intent(in) :: increment(m), inverse_tolerance(m)
+      ! assumed-shape: the caller's state is passed as it is (an explicit-shape dummy
+      ! would have it copied in and out wherever it is not known to be contiguous)
+      real(dp), intent(inout) :: u(:)
+      real(dp), intent(out) :: size_now
+      logical, intent(out) :: below_rounding, finite
+      integer :: i
+      size_now = 0.0_dp
+      below_rounding = .true.
+      finite = .false.
+      !GCC$ unroll 1
+      do i = 1, m
+         u(i) = u(i) + increment(i)
+         below_rounding = below_rounding .and. abs(increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i))
+         if (.not. ieee_is_finite(u(i))) return
+         size_now = max(size_now, abs(increment(i))*inverse_tolerance(i))
+      end do
+      finite = .true.
+   end subroutine add_increment
 
 end module taylorode_newton_solver

@@ -605,7 +605,7 @@ contains
       real(dp), contiguous, intent(inout) :: x(:)
       type(status_type), intent(inout) :: stat
       if (self%small) then
-         call small_lu_solve(self%small_matrix, self%small_pivots, x, self%small_inverse_diagonal)
+         call small_lu_solve(self%n, self%small_matrix, self%small_pivots, x, self%small_inverse_diagonal)
       else
          call self%real_solver%solve(x, stat)
       end if
