@@ -111,8 +111,13 @@ int main(void) {
   expect_refused(taylorode_integrate(ode, 1.0, 0.5, u), TAYLORODE_INVALID_ARGUMENT, ode, "integrate with t_end < t0");
   expect_refused(taylorode_integrate(ode, 0.0, NAN, u), TAYLORODE_INVALID_ARGUMENT, ode, "integrate to NaN");
   expect(u[0] == 1.0, "a refused integrate leaves u alone", NULL);
+  /* measure_time: 0 or 1; with 0 the statistics hold no CPU time */
+  expect_refused(taylorode_set_option(ode, "measure_time", 2.0), TAYLORODE_INVALID_ARGUMENT, ode, "measure_time = 2");
+  expect(taylorode_set_option(ode, "measure_time", 0.0) == TAYLORODE_OK, "measure_time = 0", taylorode_message(ode));
   expect(taylorode_integrate(ode, 0.0, 1.0, u) == TAYLORODE_OK && fabs(u[0] - exp(-1.0)) < 1e-4,
          "integrate from 0 to 1", taylorode_message(ode));
+  expect(taylorode_get_stats(ode, &stats) == TAYLORODE_OK && stats.cpu_seconds == 0.0 && stats.accepted_steps > 0,
+         "no CPU time measured with measure_time = 0", taylorode_message(ode));
   expect(taylorode_advance_to(ode, 1.0, u) == TAYLORODE_OK, "advance_to the current time returns at once",
          taylorode_message(ode));
   expect_refused(taylorode_advance_to(ode, 0.5, u), TAYLORODE_INVALID_ARGUMENT, ode, "advance_to before the current time");

@@ -1133,11 +1133,15 @@ contains
       call expect_invalid(c_set_option(ode, "max_steps"//c_null_char, 1.0e30_dp), "max_steps 1e30")
       call expect_invalid(c_set_option(ode, "max_newton_iterations"//c_null_char, 2.5_dp), "2.5 iterations")
       call expect_invalid(c_set_option(ode, "no_such_option"//c_null_char, 1.0_dp), "an unknown option")
+      call expect_invalid(c_set_option(ode, "measure_time"//c_null_char, 2.0_dp), "measure_time 2")
       call expect_invalid(c_set_bandwidths(ode, 2000000000_c_int, 2000000000_c_int), "bandwidths 2e9")
       call expect_invalid(c_set_bandwidths(ode, 0_c_int, 2_c_int), "upper bandwidth n")
       if (allocated(error)) return
       status = c_set_option(ode, "controller"//c_null_char, 1.0_dp)
       call check(error, status == status_ok .and. len(message_of(ode)) == 0, "controller 1 and its message cleared")
+      if (allocated(error)) return
+      status = c_set_option(ode, "measure_time"//c_null_char, 0.0_dp)
+      call check(error, status == status_ok, "measure_time 0: "//message_of(ode))
       call c_free(ode)
    contains
       subroutine expect_invalid(code, what)

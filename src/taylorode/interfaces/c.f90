@@ -368,6 +368,8 @@ contains
             if (whole_number(value, real(huge(1), dp))) options%max_failures = int(value)
          case ("reuse_newton_matrix")
             if (whole_number(value, 1.0_dp)) options%reuse_newton_matrix = value /= 0.0_dp
+         case ("measure_time")
+            if (whole_number(value, 1.0_dp)) options%measure_time = value /= 0.0_dp
          case ("controller")
             if (whole_number(value, 2.0_dp)) then
                select case (nint(value))

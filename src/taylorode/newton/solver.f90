@@ -514,7 +514,6 @@ contains
 
    end subroutine solve
 
-
    !> v = -v, stopping at the first entry that is not finite (finite false); explicit-shape
    !> so that the loop does not reload the solver's descriptors at every entry (on a few
    !> unknowns that cost more than the arithmetic).
