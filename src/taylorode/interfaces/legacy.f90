@@ -41,7 +41,7 @@ module taylorode_interfaces_legacy
       difference_rhs
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
-   use taylorode_schemes_radau5, only: radau5_type
+   use taylorode_schemes_radau5, only: radau5_type, new_radau5
    use taylorode_integrate_options, only: integrator_options_type, norm_rms
    use taylorode_integrate_controller, only: controller_auto, controller_i
    use taylorode_integrate_stats, only: integration_stats_type
@@ -252,7 +252,12 @@ contains
       character(len=:), allocatable, intent(out), optional :: message
       type(legacy_problem_type) :: problem
       type(legacy_observer_type) :: observer
-      class(scheme_type), allocatable :: scheme
+      ! radau5, RADAU5's own scheme, is a local object (no heap allocation of 1.8 kB, whose
+      ! malloc consolidated the allocator's free lists on every call); the others come
+      ! from the registry
+      type(radau5_type), target :: radau_scheme
+      class(scheme_type), allocatable, target :: named_scheme
+      class(scheme_type), pointer :: scheme
       type(integrator_options_type) :: options
       type(integrator_type) :: integrator
       type(integration_stats_type) :: stats
@@ -374,8 +379,14 @@ contains
          reason = reason_interval
          if (.not. (ieee_is_finite(x) .and. ieee_is_finite(xend) .and. xend > x)) return
          reason = reason_scheme
-         call new_scheme(scheme_name, scheme, scheme_stat)
-         if (scheme_stat%code /= status_ok) return
+         if (radau) then
+            radau_scheme = new_radau5()
+            scheme => radau_scheme
+         else
+            call new_scheme(scheme_name, named_scheme, scheme_stat)
+            if (scheme_stat%code /= status_ok) return
+            scheme => named_scheme
+         end if
          ! WORK(1:9) and H must be numbers (RADAU5 does not check: NaN passes its tests)
          reason = reason_work_number
          do i = 1, 9
