@@ -55,7 +55,7 @@ contains
          end do
          lu = a
          call lu_factor(lu, pivots, info_lapack)
-         call small_lu_factor(a, band_pivots, info, inverse)
+         call small_lu_factor(n, a, band_pivots, info, inverse)
          call check(error, info == info_lapack .and. all(pivots == band_pivots) .and. all(a == lu), &
             label//": factors differ from dgetrf")
          if (allocated(error)) return
@@ -175,8 +175,8 @@ contains
          end do
          lu = c
          call complex_lu_factor(lu, lapack_pivots, info)
-         call small_lu_factor(c, c_pivots, info, c_inverse)
-         call small_lu_factor(a, pivots, info, inverse)
+         call small_lu_factor(n, c, c_pivots, info, c_inverse)
+         call small_lu_factor(n, a, pivots, info, inverse)
          x = b
          call small_lu_solve(n, a, pivots, x, inverse)
          z = d

@@ -407,20 +407,21 @@ contains
    !> the pivot is the first entry of largest magnitude (LAPACK's choice), rows are
    !> swapped across the whole matrix and the factors are stored as dgetrf stores
    !> them, so `lu_solve` accepts them too. info = k > 0: U(k, k) is exactly zero.
-   pure subroutine small_lu_factor_real(a, ipiv, info, inverse_diagonal)
+   pure subroutine small_lu_factor_real(n, a, ipiv, info, inverse_diagonal)
+      !> Order
+      integer, intent(in) :: n
       !> Square matrix on entry, its LU factors on exit
-      real(dp), contiguous, intent(inout) :: a(:, :)
-      !> Pivot indices, size(a, 1)
-      integer, contiguous, intent(out) :: ipiv(:)
+      real(dp), intent(inout) :: a(n, n)
+      !> Pivot indices
+      integer, intent(out) :: ipiv(n)
       !> 0 success, k > 0 singular (first zero pivot)
       integer, intent(out) :: info
       !> 1/U(k, k), for solves that multiply instead of divide (a division takes
       !> three times as long, and back substitution chains them)
-      real(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
-      integer :: n, i, j, k, p
+      real(dp), intent(out), optional :: inverse_diagonal(n)
+      integer :: i, j, k, p
       real(dp) :: largest, pivot, swap, factor
 
-      n = size(a, 1)
       info = 0
       !GCC$ unroll 1
       do k = 1, n
@@ -699,20 +700,21 @@ contains
 
    !> Complex counterpart of `small_lu_factor_real` (pivot magnitude |Re| + |Im|,
    !> as LAPACK's izamax); the factors are those zgetrf stores.
-   pure subroutine small_lu_factor_complex(a, ipiv, info, inverse_diagonal)
+   pure subroutine small_lu_factor_complex(n, a, ipiv, info, inverse_diagonal)
+      !> Order
+      integer, intent(in) :: n
       !> Square matrix on entry, its LU factors on exit
-      complex(dp), contiguous, intent(inout) :: a(:, :)
-      !> Pivot indices, size(a, 1)
-      integer, contiguous, intent(out) :: ipiv(:)
+      complex(dp), intent(inout) :: a(n, n)
+      !> Pivot indices
+      integer, intent(out) :: ipiv(n)
       !> 0 success, k > 0 singular (first zero pivot)
       integer, intent(out) :: info
       !> 1/U(k, k), for solves that multiply instead of divide
-      complex(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
-      integer :: n, i, j, k, p
+      complex(dp), intent(out), optional :: inverse_diagonal(n)
+      integer :: i, j, k, p
       real(dp) :: largest
       complex(dp) :: pivot, swap, factor
 
-      n = size(a, 1)
       info = 0
       !GCC$ unroll 1
       do k = 1, n

@@ -81,7 +81,7 @@ contains
       select type (a => self%matrix)
       type is (dense_matrix_type)
          if (a%n <= small_lu_max_order) then
-            call small_lu_factor(a%a, self%pivots, info, self%inverse_diagonal)
+            call small_lu_factor(a%n, a%a, self%pivots, info, self%inverse_diagonal)
          else
             call lu_factor(a%a, self%pivots, info)
          end if

@@ -532,12 +532,13 @@ contains
                self%small_complex = self%small_complex + shift*mass%a
             end select
          end if
-         call small_lu_factor(self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
+         call small_lu_factor(self%n, self%small_matrix, self%small_pivots, info, self%small_inverse_diagonal)
          if (info /= 0) then
             call set_code(stat, status_singular_matrix)
             return
          end if
-         call small_lu_factor(self%small_complex, self%small_complex_pivots, info, self%small_complex_inverse_diagonal)
+         call small_lu_factor(self%n, self%small_complex, self%small_complex_pivots, info, &
+            self%small_complex_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
          ! an overflow in the elimination (see linear_solver_type%factor)
          if (.not. finite_diagonal(self%small_matrix)) call set_code(stat, status_nonfinite)
