@@ -849,7 +849,45 @@ contains
       if (allocated(error)) return
       options%max_newton_iterations = 2
       call compare_runs(problem, "i-t-2", options, 3.0_dp, 30.0_dp, "failed attempts", failures=.true.)
+      if (allocated(error)) return
+      call compare_legacy_runs()
    contains
+      !> TAYLORODE('radau5') with the user's JAC (legacy_solve, the entry's body): a call
+      !> allocates what its setup needs, the same for 10 times the steps.
+      subroutine compare_legacy_runs()
+         integer(c_long_long) :: before, short_run, long_run
+         integer :: short_steps, long_steps
+         call legacy_run(3.0_dp, before, short_steps)
+         call legacy_run(3.0_dp, before, short_steps)
+         short_run = allocation_count() - before
+         call legacy_run(30.0_dp, before, long_steps)
+         long_run = allocation_count() - before
+         call check(error, long_steps > 5*short_steps, "TAYLORODE: runs too alike")
+         if (allocated(error)) return
+         call check(error, int(long_run), int(short_run), "TAYLORODE: allocations grow with the steps")
+      end subroutine compare_legacy_runs
+      !> One TAYLORODE('radau5') call from Van der Pol's (2, 0) to x_end; before: the
+      !> allocation count just before it; steps: its attempts (IWORK(16)).
+      subroutine legacy_run(x_end, before, steps)
+         real(dp), intent(in) :: x_end
+         integer(c_long_long), intent(out) :: before
+         integer, intent(out) :: steps
+         real(dp) :: x, y(2), h, rtol(1), atol(1), work(20), rpar(1)
+         integer :: iwork(20), ipar(1), idid
+         x = 0.0_dp
+         y = [2.0_dp, 0.0_dp]
+         h = 0.0_dp
+         rtol = 1.0e-6_dp
+         atol = 1.0e-6_dp
+         work = 0.0_dp
+         iwork = 0
+         before = allocation_count()
+         call legacy_solve("radau5", 2, legacy_vdp, legacy_vdp, .false., x, y, x_end, h, rtol, atol, 0, &
+            legacy_vdp_jacobian, 0, legacy_vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, &
+            legacy_no_output, 0, work, 20, iwork, 20, rpar, ipar, idid)
+         steps = iwork(16)
+         call check(error, idid, 1, "TAYLORODE to "//format_real(x_end))
+      end subroutine legacy_run
       subroutine compare_runs(model, name, options, short_end, long_end, label, failures)
          class(ode_problem), intent(inout) :: model
          character(len=*), intent(in) :: name, label
@@ -1186,6 +1224,17 @@ contains
       f(1) = y(2)
       f(2) = 10.0_dp*(1.0_dp - y(1)**2)*y(2) - y(1)
    end subroutine legacy_vdp
+
+   !> Its Jacobian as JAC(N, X, Y, DFY, LDFY, RPAR, IPAR).
+   subroutine legacy_vdp_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1, 1) = 0.0_dp
+      dfy(1, 2) = 1.0_dp
+      dfy(2, 1) = -20.0_dp*y(1)*y(2) - 1.0_dp
+      dfy(2, 2) = 10.0_dp*(1.0_dp - y(1)**2)
+   end subroutine legacy_vdp_jacobian
 
    !> A SOLOUT that is never called (IOUT = 0).
    subroutine legacy_no_output(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
