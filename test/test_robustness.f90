@@ -12,7 +12,7 @@ module test_robustness
       band_structure, dense_structure, integrator_type, integrate_fixed, status_step_underflow
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
    use taylorode_base_strings, only: format_real, fixed_length_real, format_integer
-   use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass, jac_interface
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite
    use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
       c_associated
@@ -852,42 +852,25 @@ contains
       if (allocated(error)) return
       call compare_legacy_runs()
    contains
-      !> TAYLORODE('radau5') with the user's JAC (legacy_solve, the entry's body): a call
-      !> allocates what its setup needs, the same for 10 times the steps.
+      !> TAYLORODE('radau5') with the user's JAC: a call allocates what its setup needs,
+      !> the same for 10 times the steps (the first call is the warm-up).
       subroutine compare_legacy_runs()
-         integer(c_long_long) :: before, short_run, long_run
-         integer :: short_steps, long_steps
-         call legacy_run(3.0_dp, before, short_steps)
-         call legacy_run(3.0_dp, before, short_steps)
-         short_run = allocation_count() - before
-         call legacy_run(30.0_dp, before, long_steps)
-         long_run = allocation_count() - before
-         call check(error, long_steps > 5*short_steps, "TAYLORODE: runs too alike")
+         integer(c_long_long) :: short_run, long_run
+         integer :: iwork(20), idid, short_steps
+         call radau5_van_der_pol(3.0_dp, legacy_vdp_jacobian, 1, 2, 0, iwork, idid, short_run)
+         call check(error, idid, 1, "TAYLORODE to 3 (warm-up)")
+         if (allocated(error)) return
+         call radau5_van_der_pol(3.0_dp, legacy_vdp_jacobian, 1, 2, 0, iwork, idid, short_run)
+         short_steps = iwork(16)
+         call check(error, idid, 1, "TAYLORODE to 3")
+         if (allocated(error)) return
+         call radau5_van_der_pol(30.0_dp, legacy_vdp_jacobian, 1, 2, 0, iwork, idid, long_run)
+         call check(error, idid, 1, "TAYLORODE to 30")
+         if (allocated(error)) return
+         call check(error, iwork(16) > 5*short_steps, "TAYLORODE: runs too alike")
          if (allocated(error)) return
          call check(error, int(long_run), int(short_run), "TAYLORODE: allocations grow with the steps")
       end subroutine compare_legacy_runs
-      !> One TAYLORODE('radau5') call from Van der Pol's (2, 0) to x_end; before: the
-      !> allocation count just before it; steps: its attempts (IWORK(16)).
-      subroutine legacy_run(x_end, before, steps)
-         real(dp), intent(in) :: x_end
-         integer(c_long_long), intent(out) :: before
-         integer, intent(out) :: steps
-         real(dp) :: x, y(2), h, rtol(1), atol(1), work(20), rpar(1)
-         integer :: iwork(20), ipar(1), idid
-         x = 0.0_dp
-         y = [2.0_dp, 0.0_dp]
-         h = 0.0_dp
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         work = 0.0_dp
-         iwork = 0
-         before = allocation_count()
-         call legacy_solve("radau5", 2, legacy_vdp, legacy_vdp, .false., x, y, x_end, h, rtol, atol, 0, &
-            legacy_vdp_jacobian, 0, legacy_vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, &
-            legacy_no_output, 0, work, 20, iwork, 20, rpar, ipar, idid)
-         steps = iwork(16)
-         call check(error, idid, 1, "TAYLORODE to "//format_real(x_end))
-      end subroutine legacy_run
       subroutine compare_runs(model, name, options, short_end, long_end, label, failures)
          class(ode_problem), intent(inout) :: model
          character(len=*), intent(in) :: name, label
@@ -1197,24 +1180,41 @@ contains
       type(error_type), allocatable, intent(out) :: error
       integer, parameter :: cases(2, 4) = reshape([0, huge(1), 1, 1000000, -1, 0, 1, 1], [2, 4])
       integer, parameter :: expected(4) = [-1, -1, -1, 1]
-      real(dp) :: x, y(2), h, rtol(1), atol(1), work(20), rpar(1)
-      integer :: iwork(20), ipar(1), idid, k
+      integer :: iwork(20), idid, k
       do k = 1, size(expected)
-         x = 0.0_dp
-         y = [2.0_dp, 0.0_dp]
-         h = 0.0_dp
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         work = 0.0_dp
-         iwork = 0
-         call legacy_solve("radau5", 2, legacy_vdp, legacy_vdp, .false., x, y, 1.0_dp, h, rtol, atol, 0, &
-            legacy_no_jacobian, 0, legacy_no_jacobian, 0, cases(1, k), cases(2, k), legacy_no_mass, 0, 2, 0, &
-            legacy_no_output, 0, work, 20, iwork, 20, rpar, ipar, idid)
+         call radau5_van_der_pol(1.0_dp, legacy_no_jacobian, 0, cases(1, k), cases(2, k), iwork, idid)
          call check(error, idid == expected(k), "MLJAC, MUJAC = "//format_real(real(cases(1, k), dp))//", "// &
             format_real(real(cases(2, k), dp)))
          if (allocated(error)) return
       end do
    end subroutine test_legacy_bandwidths_checked
+
+   !> TAYLORODE('radau5') (legacy_solve, the entry's body) on Van der Pol (mu = 10) from
+   !> (2, 0) at x = 0 to x_end: RTOL = ATOL = 1e-6, H = 0, WORK = IWORK = 0 on entry, the
+   !> bandwidths MLJAC, MUJAC, and jac when ijac = 1; iwork and idid as it returns them,
+   !> allocations the heap allocations it made.
+   subroutine radau5_van_der_pol(x_end, jac, ijac, mljac, mujac, iwork, idid, allocations)
+      real(dp), intent(in) :: x_end
+      procedure(jac_interface) :: jac
+      integer, intent(in) :: ijac, mljac, mujac
+      integer, intent(out) :: iwork(20), idid
+      integer(c_long_long), intent(out), optional :: allocations
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(20), rpar(1)
+      integer :: ipar(1)
+      integer(c_long_long) :: before
+      x = 0.0_dp
+      y = [2.0_dp, 0.0_dp]
+      h = 0.0_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+      work = 0.0_dp
+      iwork = 0
+      before = allocation_count()
+      call legacy_solve("radau5", 2, legacy_vdp, legacy_vdp, .false., x, y, x_end, h, rtol, atol, 0, &
+         jac, 0, jac, ijac, mljac, mujac, legacy_no_mass, 0, 2, 0, legacy_no_output, 0, work, 20, iwork, 20, &
+         rpar, ipar, idid)
+      if (present(allocations)) allocations = allocation_count() - before
+   end subroutine radau5_van_der_pol
 
    !> Van der Pol (mu = 10) as FCN(N, X, Y, F, RPAR, IPAR).
    subroutine legacy_vdp(n, x, y, f, rpar, ipar)
