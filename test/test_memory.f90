@@ -89,7 +89,8 @@ contains
          new_unittest("dense-newton-matrix-too-large", test_huge_dense), &
          new_unittest("c-huge-n-is-a-status", test_c_huge), &
          new_unittest("every-failed-allocation-a-status", test_every_allocation), &
-         new_unittest("band-problem-under-address-limit", test_address_limit) &
+         new_unittest("band-problem-under-address-limit", test_address_limit), &
+         new_unittest("work-arrays-only-where-used", test_work_arrays_where_used) &
          ]
    end subroutine collect_memory
 
@@ -301,6 +302,65 @@ contains
          t_reached <= t_end
       if (t_reached == 0.0_dp .and. case%way /= run_c) state_good = state_good .and. all(u == 1.0_dp)
    end subroutine run_case
+
+   !> A run allocates the work arrays of the state's size that its problem and options
+   !> use, no others: on the band chain (2048 unknowns, a state of 16384 bytes, above
+   !> large_request), a problem declared to depend on t costs ex-t-2 and i-t-2 one array
+   !> more than the same problem declared autonomous (dF/dt), si-t-2 two (df/dt, dg/dt);
+   !> i-t-2 extrapolating Newton's starting guess two more than without (the last
+   !> accepted step's ends), radau5 none (it extrapolates its own stages). Before, every
+   !> run allocated them all.
+   subroutine test_work_arrays_where_used(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(3) = [character(len=8) :: "ex-t-2", "i-t-2", "si-t-2"]
+      integer, parameter :: time_arrays(3) = [1, 1, 2]
+      integer(c_long_long) :: with, without
+      integer :: k
+      if (allocation_count() < 0) then
+         call skip_test(error, "allocations are not counted under AddressSanitizer")
+         return
+      end if
+      do k = 1, size(names)
+         with = large_requests(trim(names(k)), autonomous=.false., extrapolate=.true.)
+         without = large_requests(trim(names(k)), autonomous=.true., extrapolate=.true.)
+         call check(error, with - without == time_arrays(k), trim(names(k))//": "//format_integer(int(with))// &
+            " large requests for a problem that depends on t, "//format_integer(int(without))//" for an autonomous one")
+         if (allocated(error)) return
+      end do
+      with = large_requests("i-t-2", autonomous=.true., extrapolate=.true.)
+      without = large_requests("i-t-2", autonomous=.true., extrapolate=.false.)
+      call check(error, with - without == 2, "i-t-2: "//format_integer(int(with))//" large requests extrapolating "// &
+         "Newton's guess, "//format_integer(int(without))//" without")
+      if (allocated(error)) return
+      with = large_requests("radau5", autonomous=.true., extrapolate=.true.)
+      without = large_requests("radau5", autonomous=.true., extrapolate=.false.)
+      call check(error, with == without, "radau5: "//format_integer(int(with))//" large requests with the option "// &
+         "extrapolate_newton_start, "//format_integer(int(without))//" without")
+   end subroutine test_work_arrays_where_used
+
+   !> Requests of at least large_request bytes made by one integration of the band chain
+   !> with a new scheme object
+   function large_requests(scheme_name, autonomous, extrapolate) result(requests)
+      character(len=*), intent(in) :: scheme_name
+      logical, intent(in) :: autonomous, extrapolate
+      integer(c_long_long) :: requests
+      type(chain_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(band_order)
+      problem%band = .true.
+      problem%autonomous = autonomous
+      options%extrapolate_newton_start = extrapolate
+      call new_scheme(scheme_name, scheme, stat)
+      u = 1.0_dp
+      call fail_allocations(large_request, huge(1_c_long_long))
+      call integrate(problem, scheme, 0.0_dp, 0.04_dp, u, options, stats, stat)
+      requests = large_allocations()
+      call fail_allocations(-1_c_long_long, 0_c_long_long)
+      if (stat%code /= status_ok) requests = -1
+   end function large_requests
 
    !> The band problem of test/c_out_of_memory.c, built against the installation and run
    !> under `ulimit -v` at its own peak address space (small problem) plus 300 MB: the

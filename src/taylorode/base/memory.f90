@@ -51,9 +51,11 @@ contains
       call set_status(stat, status_out_of_memory, trim(text))
    end subroutine out_of_memory
 
-   !> A work array of n entries: allocated again only when its size differs. Nothing is
-   !> done after an earlier failure (stat not ok), so that a sequence of calls stops at
-   !> the first.
+   !> A work array of n entries: allocated again only when its size differs; of no
+   !> entries it is left unallocated (an array a given use does not need costs no
+   !> allocation: a work array sized `merge(n, 0, needed)` is allocated exactly when
+   !> needed). Nothing is done after an earlier failure (stat not ok), so that a sequence
+   !> of calls stops at the first.
    pure subroutine sized_vector(work, n, what, stat)
       !> The work array
       real(dp), allocatable, intent(inout) :: work(:)
@@ -69,12 +71,13 @@ contains
          if (size(work) == n) return
          deallocate (work)
       end if
+      if (n == 0) return
       allocate (work(n), stat=memory)
       if (memory /= 0) call out_of_memory(stat, what, [n], real_bytes)
    end subroutine sized_vector
 
-   !> A work matrix of rows x columns: allocated again only when its shape differs (see
-   !> sized_vector).
+   !> A work matrix of rows x columns: allocated again only when its shape differs, left
+   !> unallocated without entries (see sized_vector).
    pure subroutine sized_matrix(work, rows, columns, what, stat)
       !> The work matrix
       real(dp), allocatable, intent(inout) :: work(:, :)
@@ -90,6 +93,7 @@ contains
          if (size(work, 1) == rows .and. size(work, 2) == columns) return
          deallocate (work)
       end if
+      if (rows == 0 .or. columns == 0) return
       allocate (work(rows, columns), stat=memory)
       if (memory /= 0) call out_of_memory(stat, what, [rows, columns], real_bytes)
    end subroutine sized_matrix

@@ -70,7 +70,9 @@ module taylorode_integrate_stepper
    !> step's change, where the half steps may agree on it
    real(dp), parameter :: defect_limit = 4.0_dp
 
-   !> Work arrays and controller memory of the step attempts of one integration
+   !> Work arrays and controller memory of the step attempts of one integration (the
+   !> work arrays a run does not use, by its scheme, estimate and options, stay
+   !> unallocated)
    type :: stepper_type
       !> Candidate new state
       real(dp), allocatable :: u_new(:)
@@ -110,7 +112,8 @@ module taylorode_integrate_stepper
       !> Step doubling: the state after the first half step, and after the whole step
       real(dp), allocatable :: u_half(:), u_whole(:)
       !> Start of the last accepted step and its end (the state the next step starts
-      !> from, unless the caller changed it), for the Newton starting guess
+      !> from, unless the caller changed it), for the Newton starting guess (when
+      !> extrapolating)
       real(dp), allocatable :: u_step_start(:), u_step_end(:)
       !> Newton starting guess
       real(dp), allocatable :: guess(:)
@@ -166,9 +169,12 @@ contains
       call sized(self%delta, n, what, stat)
       call sized(self%weights, n, what, stat)
       call sized(self%newton%tolerance, n, what, stat)
-      call sized(self%u_step_start, n, what, stat)
-      call sized(self%u_step_end, n, what, stat)
+      ! (the guess is also the first step size's work space)
       call sized(self%guess, n, what, stat)
+      self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit .and. scheme%takes_newton_guess
+      self%extrapolation_ready = .false.
+      call sized(self%u_step_start, merge(n, 0, self%extrapolate), what, stat)
+      call sized(self%u_step_end, merge(n, 0, self%extrapolate), what, stat)
       self%newton%max_iterations = options%max_newton_iterations
       if (self%newton%max_iterations == 0) self%newton%max_iterations = scheme%newton_iterations
       self%newton%reuse_matrix = options%reuse_newton_matrix
@@ -204,8 +210,6 @@ contains
          self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
          self%whole_newton_fraction = 0.1_dp/self%richardson
       end if
-      self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit .and. scheme%takes_newton_guess
-      self%extrapolation_ready = .false.
       self%q = options%q
       if (self%q == 0.0_dp) then
          if (self%estimate == estimate_doubling .or. self%estimate == estimate_defect) then
@@ -408,9 +412,7 @@ contains
             err = self%weighted_norm(problem, options, self%delta)
          end if
       end if
-      if (allocated(self%defect)) then
-         if (size(self%defect) > 0) err = max(err, self%weighted_norm(problem, options, self%defect)/defect_limit)
-      end if
+      if (allocated(self%defect)) err = max(err, self%weighted_norm(problem, options, self%defect)/defect_limit)
       if (scheme%amplifies_errors) then
          ! M^(-1) P delta, which the next step's solve leaves of P delta, only when P
          ! delta itself is too large (a solve saved at most steps)

@@ -79,7 +79,7 @@ contains
       call sized(self%g0, n, what, stat)
       call sized(self%rhs0, n, what, stat)
       call sized(self%taylor2, n, what, stat)
-      call sized(self%rhs_t0, n, what, stat)
+      call sized(self%rhs_t0, merge(n, 0, .not. problem%autonomous), what, stat)
       if (stat%code == status_ok) call new_matrix(self%jac_f0, n, self%structure, stat)
       if (stat%code == status_ok) call new_matrix(self%jac_g0, n, self%structure, stat)
       if (stat%code /= status_ok) self%n = 0

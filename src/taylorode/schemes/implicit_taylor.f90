@@ -150,7 +150,7 @@ contains
          call sized(system%u0, n, what, stat)
          call sized(system%rhs1, n, what, stat)
          call sized(system%probe, n, what, stat)
-         call sized(system%rhs_t1, n, what, stat)
+         call sized(system%rhs_t1, merge(n, 0, .not. problem%autonomous), what, stat)
          call sized(system%rhs0, n, what, stat)
          if (stat%code == status_ok) call new_matrix(system%jac1, n, self%structure, stat)
          if (self%order == 2 .and. stat%code == status_ok) call new_matrix(system%jac_probe, n, self%structure, stat)

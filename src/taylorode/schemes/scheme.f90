@@ -60,6 +60,9 @@ module taylorode_schemes_scheme
       integer :: n = 0
       !> Jacobian structure the work arrays are prepared for
       type(matrix_structure_type) :: structure
+      !> Whether the problem the work arrays are prepared for is autonomous (the work
+      !> arrays of dF/dt are then left out)
+      logical :: autonomous = .false.
       !> Whether the integrator's default controller (controller_auto) is the
       !> predictive one for this scheme (radau5), else the I controller
       logical :: predictive_control = .false.
@@ -448,9 +451,9 @@ contains
       refined = .false.
    end subroutine refine_estimate
 
-   !> Record size n and the problem's (checked) Jacobian structure; true when they
-   !> differ from what the work arrays were prepared for (the caller then
-   !> reallocates). An impossible structure, or a mass matrix the scheme does not
+   !> Record size n, the problem's (checked) Jacobian structure and whether it is
+   !> autonomous; true when they differ from what the work arrays were prepared for (the
+   !> caller then reallocates). An impossible structure, or a mass matrix the scheme does not
    !> solve, leaves stat set and returns false.
    logical function resize(self, problem, n, stat)
       !> The scheme
@@ -471,9 +474,11 @@ contains
       call problem%checked_structure(n, structure, stat)
       if (stat%code /= status_ok) return
       resize = .not. (self%n == n .and. self%structure%storage == structure%storage .and. &
-         self%structure%lower == structure%lower .and. self%structure%upper == structure%upper)
+         self%structure%lower == structure%lower .and. self%structure%upper == structure%upper .and. &
+         (self%autonomous .eqv. problem%autonomous))
       self%n = n
       self%structure = structure
+      self%autonomous = problem%autonomous
    end function resize
 
    !> Counted d(part)/dt at (t, u), part f, g or F (of_f, of_g, of_rhs), by the
