@@ -9,7 +9,8 @@ module test_legacy
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, &
       integrator_options_type, integration_stats_type, norm_rms, status_ok
    use taylorode_testset, only: new_transistor_amplifier, transistor_amplifier_type
-   use taylorode_interfaces_legacy, only: legacy_solve, legacy_message, legacy_no_mass
+   use taylorode_interfaces_legacy, only: legacy_solve, legacy_message, legacy_no_mass, legacy_interpolate
+   use taylorode_interfaces_legacy_entry, only: fcn_interface, jac_interface, mas_interface, solout_interface
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    implicit none
    private
@@ -33,11 +34,44 @@ module test_legacy
    end type vdp_type
 
    interface
-      !> The legacy entry's message routine (an external subroutine)
+      !> The legacy entry's external procedures, declared as a program declares them
       subroutine taylorode_message(iwork, text)
          integer, intent(in) :: iwork(*)
          character(len=*), intent(out) :: text
       end subroutine taylorode_message
+      subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac, mljac, mujac, mas, imas, &
+         mlmas, mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
+         import :: dp, fcn_interface, jac_interface, mas_interface, solout_interface
+         character(len=*), intent(in) :: scheme
+         integer, intent(in) :: n, itol, ijac, mljac, mujac, imas, mlmas, mumas, iout, lwork, liwork
+         procedure(fcn_interface) :: fcn
+         procedure(jac_interface) :: jac
+         procedure(mas_interface) :: mas
+         procedure(solout_interface) :: solout
+         real(dp), intent(inout) :: x, y(n), h, work(*), rpar(*)
+         real(dp), intent(in) :: xend, rtol(*), atol(*)
+         integer, intent(inout) :: iwork(*), ipar(*)
+         integer, intent(out) :: idid
+      end subroutine taylorode
+      subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, &
+         mljac, mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
+         import :: dp, fcn_interface, jac_interface, solout_interface
+         character(len=*), intent(in) :: scheme
+         integer, intent(in) :: n, itol, ijacf, ijacg, mljac, mujac, iout, lwork, liwork
+         procedure(fcn_interface) :: fcnf, fcng
+         procedure(jac_interface) :: jacf, jacg
+         procedure(solout_interface) :: solout
+         real(dp), intent(inout) :: x, y(n), h, work(*), rpar(*)
+         real(dp), intent(in) :: xend, rtol(*), atol(*)
+         integer, intent(inout) :: iwork(*), ipar(*)
+         integer, intent(out) :: idid
+      end subroutine taylorode_split
+      function taylorode_contr(i, s, cont, lrc) result(value)
+         import :: dp
+         integer, intent(in) :: i, lrc
+         real(dp), intent(in) :: s, cont(lrc)
+         real(dp) :: value
+      end function taylorode_contr
    end interface
 
 contains
@@ -53,7 +87,8 @@ contains
          new_unittest("step-budget-statistics", test_budget), &
          new_unittest("evaluation-flag", test_evaluation_flag), &
          new_unittest("mass-transistor-amplifier", test_mass_transistor_amplifier), &
-         new_unittest("messages", test_messages) &
+         new_unittest("messages", test_messages), &
+         new_unittest("external-procedures-as-module", test_external_procedures) &
          ]
    end subroutine collect_legacy
 
@@ -348,6 +383,7 @@ contains
          21, 22, 23, 24, 31, 32, 33, 34, 35, 36, 37]
       integer :: k, iwork(20)
       character(len=200) :: text
+      character(len=:), allocatable :: expected
       do k = 1, size(reasons)
          call check(error, len(legacy_message(reasons(k), 1)) > 10 .and. &
             legacy_message(reasons(k), 1) /= "unknown reason", "reason "//format_integer(reasons(k)))
@@ -356,7 +392,58 @@ contains
       iwork = 0
       call taylorode_message(iwork, text)
       call check(error, text == "", "blank after a success")
+      if (allocated(error)) return
+      iwork(12:13) = [3, 0]
+      call taylorode_message(iwork, text)
+      call check(error, text, legacy_message(3, 0), "TAYLORODE_MESSAGE")
+      if (allocated(error)) return
+      expected = legacy_message(3, 0)
+      call taylorode_message(iwork, text(:8))
+      call check(error, text(:8), expected(:8), "TAYLORODE_MESSAGE cut to its text's length")
    end subroutine test_messages
+
+   !> The external TAYLORODE, TAYLORODE_SPLIT and TAYLORODE_CONTR, which reach the
+   !> module through its C-interoperable entries (procedure pointers, the name as
+   !> characters), give what legacy_solve and legacy_interpolate give, bit for bit:
+   !> radau5 on Van der Pol with SOLOUT interpolating every step at three points, and
+   !> si-t-2 with f and g apart (y1' = y2 in f, the rest in g) and both Jacobians.
+   subroutine test_external_procedures(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x(2), y(2, 2), h(2), rtol(1), atol(1), work(lwork, 2), rpar(2, 2)
+      integer :: iwork(liwork, 2), ipar(1, 2), idid(2), k
+      character(len=*), parameter :: label(2) = [character(len=15) :: "TAYLORODE", "TAYLORODE_SPLIT"]
+      do k = 1, 2
+         call fresh(x(1), y(:, 1), h(1), rtol, atol, work(:, 1), iwork(:, 1))
+         call fresh(x(2), y(:, 2), h(2), rtol, atol, work(:, 2), iwork(:, 2))
+         rpar = 0.0_dp
+         ! ipar(1): 1 the SOLOUT calls TAYLORODE_CONTR, 0 legacy_interpolate
+         ipar(1, :) = [1, 0]
+         if (k == 1) then
+            call taylorode("radau5", 2, vdp, x(1), y(:, 1), vdp_end, h(1), rtol, atol, 0, vdp_jacobian, 1, 2, 0, &
+               legacy_no_mass, 0, 2, 0, interpolating, 1, work(:, 1), lwork, iwork(:, 1), liwork, rpar(:, 1), &
+               ipar(:, 1), idid(1))
+            call legacy_solve("radau5", 2, vdp, vdp, .false., x(2), y(:, 2), vdp_end, h(2), rtol, atol, 0, &
+               vdp_jacobian, 0, vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, interpolating, 1, work(:, 2), lwork, &
+               iwork(:, 2), liwork, rpar(:, 2), ipar(:, 2), idid(2))
+         else
+            call taylorode_split("si-t-2", 2, vdp_f, vdp_g, x(1), y(:, 1), vdp_end, h(1), rtol, atol, 0, &
+               vdp_f_jacobian, 1, vdp_g_jacobian, 1, 2, 0, interpolating, 1, work(:, 1), lwork, iwork(:, 1), liwork, &
+               rpar(:, 1), ipar(:, 1), idid(1))
+            call legacy_solve("si-t-2", 2, vdp_f, vdp_g, .true., x(2), y(:, 2), vdp_end, h(2), rtol, atol, 0, &
+               vdp_f_jacobian, 1, vdp_g_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, interpolating, 1, work(:, 2), &
+               lwork, iwork(:, 2), liwork, rpar(:, 2), ipar(:, 2), idid(2))
+         end if
+         call check(error, idid(1) == 1 .and. idid(2) == 1, trim(label(k))//": IDID "//format_integer(idid(1))// &
+            " and "//format_integer(idid(2)))
+         if (allocated(error)) return
+         call check(error, x(1) == x(2) .and. all(y(:, 1) == y(:, 2)) .and. h(1) == h(2) .and. &
+            all(iwork(14:20, 1) == iwork(14:20, 2)), trim(label(k))//": X, Y, H or IWORK(14:20) differ from legacy_solve's")
+         if (allocated(error)) return
+         call check(error, rpar(2, 1) > 0.0_dp .and. all(rpar(:, 1) == rpar(:, 2)), trim(label(k))// &
+            ": TAYLORODE_CONTR differs from legacy_interpolate")
+         if (allocated(error)) return
+      end do
+   end subroutine test_external_procedures
 
    subroutine vdp_zero(self, t, u, dudt)
       class(vdp_type), intent(inout) :: self
@@ -568,6 +655,63 @@ contains
          end if
       end subroutine put
    end subroutine amplifier_mas
+
+   !> Van der Pol split: f = (y2, 0), g = (0, mu ((1 - y1^2) y2 - y1))
+   subroutine vdp_f(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f(1) = y(2)
+      f(2) = 0.0_dp
+   end subroutine vdp_f
+
+   subroutine vdp_g(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f(1) = 0.0_dp
+      f(2) = mu*((1.0_dp - y(1)**2)*y(2) - y(1))
+   end subroutine vdp_g
+
+   subroutine vdp_f_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1:2, 1:2) = 0.0_dp
+      dfy(1, 2) = 1.0_dp
+   end subroutine vdp_f_jacobian
+
+   subroutine vdp_g_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1:2, 1:2) = 0.0_dp
+      dfy(2, 1) = mu*(-2.0_dp*y(1)*y(2) - 1.0_dp)
+      dfy(2, 2) = mu*(1.0_dp - y(1)**2)
+   end subroutine vdp_g_jacobian
+
+   !> rpar(1) += both components at a quarter, half and three quarters of every step,
+   !> through TAYLORODE_CONTR when ipar(1) = 1, else legacy_interpolate; rpar(2) counts
+   !> the steps
+   subroutine interpolating(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      integer :: i, k
+      real(dp) :: s
+      irtrn = 0
+      if (nr == 1) return
+      rpar(2) = rpar(2) + 1.0_dp
+      do k = 1, 3
+         s = xold + 0.25_dp*k*(x - xold)
+         do i = 1, n
+            if (ipar(1) == 1) then
+               rpar(1) = rpar(1) + taylorode_contr(i, s, cont, lrc)
+            else
+               rpar(1) = rpar(1) + legacy_interpolate(i, s, cont, lrc)
+            end if
+         end do
+      end do
+   end subroutine interpolating
 
    !> A SOLOUT that is never called (IOUT = 0)
    subroutine no_output(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)

@@ -46,14 +46,17 @@ module taylorode_interfaces_legacy
    use taylorode_integrate_controller, only: controller_auto, controller_i
    use taylorode_integrate_stats, only: integration_stats_type
    use taylorode_integrate_integrator, only: integrator_type
-   use taylorode_integrate_step, only: accepted_step_type, newton_form, hermite_degree
+   use taylorode_integrate_step, only: accepted_step_type, hermite_degree
    use taylorode_integrate_observer, only: step_observer_type
+   use taylorode_interfaces_legacy_entry, only: fcn_interface, jac_interface, mas_interface, solout_interface
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_funptr, c_f_procpointer, c_associated
    implicit none
    private
 
    public :: legacy_solve, legacy_interpolate, legacy_message, legacy_no_mass, fcn_interface, jac_interface, &
       mas_interface, solout_interface
+   public :: legacy_solve_entry, legacy_interpolate_entry, legacy_message_entry
 
    !> Why a call ended with a negative IDID (IWORK(12)); legacy_message says it in words
    integer, parameter :: reason_none = 0, reason_storage = 1, reason_size = 2, reason_interval = 3, &
@@ -69,69 +72,6 @@ module taylorode_interfaces_legacy
    integer, parameter :: default_budget = 100000
    real(dp), parameter :: default_uround = 1.0e-16_dp, default_first_step = 1.0e-6_dp
    real(dp), parameter :: default_min_shrink = 0.2_dp, default_max_growth = 8.0_dp
-
-   abstract interface
-      !> F = right-hand side (or its non-stiff or stiff part) at (X, Y)
-      subroutine fcn_interface(n, x, y, f, rpar, ipar)
-         import :: dp
-         !> Unknowns
-         integer :: n
-         !> Time and state (copies: the routine may write them)
-         real(dp) :: x, y(n)
-         !> The value at (x, y)
-         real(dp) :: f(n)
-         !> The caller's real data, passed through untouched
-         real(dp) :: rpar(*)
-         !> The caller's integer data, passed through untouched (IPAR(IWORK(11)): the
-         !> evaluation flag when IWORK(11) > 0)
-         integer :: ipar(*)
-      end subroutine fcn_interface
-      !> DFY = its Jacobian (dense LDFY x N, or band storage)
-      subroutine jac_interface(n, x, y, dfy, ldfy, rpar, ipar)
-         import :: dp
-         !> Unknowns, and the leading dimension of dfy (n dense, mljac + mujac + 1 band)
-         integer :: n, ldfy
-         !> Time and state (copies: the routine may write them)
-         real(dp) :: x, y(n)
-         !> The Jacobian: dfy(i, j) = d part_i / d y_j, or dfy(i - j + mujac + 1, j) in band storage
-         real(dp) :: dfy(ldfy, n)
-         !> The caller's real data, passed through untouched
-         real(dp) :: rpar(*)
-         !> The caller's integer data, passed through untouched
-         integer :: ipar(*)
-      end subroutine jac_interface
-      !> AM = the constant mass matrix M (RADAU5's MAS): dense LMAS x N when MLMAS = N, else
-      !> AM(I - J + MUMAS + 1, J) = M(I, J)
-      subroutine mas_interface(n, am, lmas, rpar, ipar)
-         import :: dp
-         !> Unknowns, and the leading dimension of am (n dense, mlmas + mumas + 1 band)
-         integer :: n, lmas
-         !> The mass matrix
-         real(dp) :: am(lmas, n)
-         !> The caller's real data, passed through untouched
-         real(dp) :: rpar(*)
-         !> The caller's integer data, passed through untouched
-         integer :: ipar(*)
-      end subroutine mas_interface
-      !> Called after each accepted step (and once at the start)
-      subroutine solout_interface(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
-         import :: dp
-         !> Number of the call (1 at the start), length of cont, unknowns
-         integer :: nr, lrc, n
-         !> Start and end of the step just accepted (both the start time on the first call)
-         real(dp) :: xold, x
-         !> State at x
-         real(dp) :: y(n)
-         !> The step, for TAYLORODE_CONTR
-         real(dp) :: cont(lrc)
-         !> The caller's real data, passed through untouched
-         real(dp) :: rpar(*)
-         !> The caller's integer data, passed through untouched
-         integer :: ipar(*)
-         !> Set it negative to stop the integration
-         integer :: irtrn
-      end subroutine solout_interface
-   end interface
 
    !> The user's routines as an ode_problem
    type, extends(ode_problem) :: legacy_problem_type
@@ -566,6 +506,117 @@ contains
       end subroutine refuse
    end subroutine legacy_solve
 
+   !> legacy_solve for the external TAYLORODE and TAYLORODE_SPLIT (legacy_entry.f90), its
+   !> arguments C-interoperable: the user's routines as C function pointers to them, the
+   !> scheme's name as characters and their number. Through it those external procedures
+   !> use no module of the library, and so gfortran does not save, clear and restore the
+   !> floating-point environment around them, which it does around every procedure whose
+   !> scope reaches an IEEE module through USE (0.2 us a call). Not for other callers.
+   subroutine legacy_solve_entry(scheme_name, name_length, n, fcn_f, fcn_g, has_f, x, y, xend, h, rtol, atol, &
+      itol, jac_f, ijac_f, jac_g, ijac_g, mljac, mujac, mas, imas, mlmas, mumas, solout, iout, work, lwork, iwork, &
+      liwork, rpar, ipar, idid) bind(c, name="taylorode_legacy_solve_entry")
+      !> Scheme name and its length
+      character(kind=c_char), intent(in) :: scheme_name(*)
+      integer(c_int), value :: name_length
+      !> Unknowns
+      integer(c_int), intent(in) :: n
+      !> The non-stiff part (a pointer to an fcn_interface routine; not called unless
+      !> has_f is 1) and the stiff part
+      type(c_funptr), value :: fcn_f, fcn_g
+      !> 1 when fcn_f is given, else 0
+      integer(c_int), value :: has_f
+      !> Start time on entry, where the integration stopped on exit
+      real(c_double), intent(inout) :: x
+      !> State at x
+      real(c_double), intent(inout) :: y(n)
+      !> Final time
+      real(c_double), intent(in) :: xend
+      !> First step size guess on entry, the next one on exit
+      real(c_double), intent(inout) :: h
+      !> Tolerances, scalars (itol = 0) or arrays of n
+      real(c_double), intent(in) :: rtol(*), atol(*)
+      !> 0 for scalar tolerances
+      integer(c_int), intent(in) :: itol
+      !> The Jacobians of f and g (pointers to jac_interface routines), used when 1 is given
+      type(c_funptr), value :: jac_f, jac_g
+      !> Whether jac_f and jac_g are given (1) or differences are used (0)
+      integer(c_int), intent(in) :: ijac_f, ijac_g
+      !> Bandwidths of the Jacobians
+      integer(c_int), intent(in) :: mljac, mujac
+      !> The mass matrix routine (a pointer to a mas_interface routine; null: none)
+      type(c_funptr), value :: mas
+      !> 0: M = I
+      integer(c_int), intent(in) :: imas
+      !> Bandwidths of M
+      integer(c_int), intent(in) :: mlmas, mumas
+      !> Called after every accepted step when iout /= 0 (a pointer to a solout_interface routine)
+      type(c_funptr), value :: solout
+      !> 0: never call solout
+      integer(c_int), intent(in) :: iout
+      !> Lengths of work and iwork
+      integer(c_int), intent(in) :: lwork, liwork
+      !> Real settings
+      real(c_double), intent(inout) :: work(*)
+      !> Integer settings and outputs
+      integer(c_int), intent(inout) :: iwork(*)
+      !> The caller's data, passed to the user's routines untouched
+      real(c_double), intent(inout), target :: rpar(*)
+      integer(c_int), intent(inout), target :: ipar(*)
+      !> Outcome
+      integer(c_int), intent(out) :: idid
+      procedure(fcn_interface), pointer :: fcn_f_routine, fcn_g_routine
+      procedure(jac_interface), pointer :: jac_f_routine, jac_g_routine
+      procedure(mas_interface), pointer :: mas_routine
+      procedure(solout_interface), pointer :: solout_routine
+      character(len=max(name_length, 0)) :: name
+      integer :: i
+      do i = 1, len(name)
+         name(i:i) = scheme_name(i)
+      end do
+      call c_f_procpointer(fcn_f, fcn_f_routine)
+      call c_f_procpointer(fcn_g, fcn_g_routine)
+      call c_f_procpointer(jac_f, jac_f_routine)
+      call c_f_procpointer(jac_g, jac_g_routine)
+      mas_routine => legacy_no_mass
+      if (c_associated(mas)) call c_f_procpointer(mas, mas_routine)
+      call c_f_procpointer(solout, solout_routine)
+      call legacy_solve(name, n, fcn_f_routine, fcn_g_routine, has_f == 1, x, y, xend, h, rtol, atol, itol, &
+         jac_f_routine, ijac_f, jac_g_routine, ijac_g, mljac, mujac, mas_routine, imas, mlmas, mumas, solout_routine, &
+         iout, work, lwork, iwork, liwork, rpar, ipar, idid)
+   end subroutine legacy_solve_entry
+
+   !> legacy_interpolate for the external TAYLORODE_CONTR (see legacy_solve_entry).
+   pure function legacy_interpolate_entry(i, s, cont, lrc) result(value) bind(c, name="taylorode_legacy_interpolate_entry")
+      !> Component
+      integer(c_int), intent(in) :: i
+      !> Time inside the step
+      real(c_double), intent(in) :: s
+      !> Length of cont
+      integer(c_int), intent(in) :: lrc
+      !> The step as SOLOUT received it
+      real(c_double), intent(in) :: cont(lrc)
+      real(c_double) :: value
+      value = legacy_interpolate(i, s, cont, lrc)
+   end function legacy_interpolate_entry
+
+   !> legacy_message for the external TAYLORODE_MESSAGE (see legacy_solve_entry): the
+   !> sentence in text(1:text_length), cut or padded with blanks.
+   subroutine legacy_message_entry(reason, detail, text, text_length) bind(c, name="taylorode_legacy_message_entry")
+      !> IWORK(12) and IWORK(13)
+      integer(c_int), intent(in) :: reason, detail
+      !> The sentence
+      character(kind=c_char), intent(out) :: text(*)
+      !> Its room
+      integer(c_int), value :: text_length
+      character(len=:), allocatable :: sentence
+      integer :: i
+      sentence = legacy_message(reason, detail)
+      do i = 1, text_length
+         text(i) = " "
+         if (i <= len(sentence)) text(i) = sentence(i:i)
+      end do
+   end subroutine legacy_message_entry
+
    !> RADAU5's IDID for a status code.
    pure integer function outcome_code(code)
       integer, intent(in) :: code
@@ -702,7 +753,8 @@ contains
       end if
    end subroutine legacy_observe
 
-   !> Component i at s of the step packed in cont (TAYLORODE_CONTR).
+   !> Component i at s of the step packed in cont (TAYLORODE_CONTR): the step's Newton
+   !> form (newton_form's arithmetic, for one component).
    pure real(dp) function legacy_interpolate(i, s, cont, lrc) result(value)
       !> Component
       integer, intent(in) :: i
@@ -712,15 +764,18 @@ contains
       integer, intent(in) :: lrc
       !> The step as SOLOUT received it
       real(dp), intent(in) :: cont(lrc)
-      real(dp) :: u(1)
-      integer :: n, degree, first
+      real(dp) :: theta
+      integer :: n, degree, first, k
       n = nint(cont(3))
       degree = nint(cont(4))
-      ! after the room for max_degree nodes: lrc = 4 + max_degree + n (max_degree + 1)
+      ! after the room for max_degree nodes: lrc = 4 + max_degree + n (max_degree + 1);
+      ! coefficient k of component i at first + k n + i - 1, node k at 4 + k
       first = 5 + (lrc - 4 - n)/(n + 1)
-      call newton_form(min(max((s - cont(1))/cont(2), 0.0_dp), 1.0_dp), cont(5:4 + degree), &
-         reshape(cont(first + i - 1:first - 1 + i + degree*n:n), [1, degree + 1]), u)
-      value = u(1)
+      theta = min(max((s - cont(1))/cont(2), 0.0_dp), 1.0_dp)
+      value = cont(first + degree*n + i - 1)
+      do k = degree, 1, -1
+         value = cont(first + (k - 1)*n + i - 1) + (theta - cont(4 + k))*value
+      end do
    end function legacy_interpolate
 
 
@@ -1021,148 +1076,3 @@ contains
    end subroutine legacy_no_mass
 
 end module taylorode_interfaces_legacy
-
-!> TAYLORODE, RADAU5's argument list with the scheme's name in front; FCN is the
-!> whole right-hand side, treated as stiff (see module taylorode_interfaces_legacy).
-subroutine taylorode(scheme, n, fcn, x, y, xend, h, rtol, atol, itol, jac, ijac, mljac, mujac, mas, imas, mlmas, &
-   mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
-   use taylorode_base_kinds, only: dp
-   use taylorode_interfaces_legacy, only: legacy_solve, fcn_interface, jac_interface, mas_interface, &
-      solout_interface
-   implicit none
-   !> Scheme name, as users type it ('radau5', 'i-t-2', ...)
-   character(len=*), intent(in) :: scheme
-   !> Unknowns
-   integer, intent(in) :: n
-   !> The right-hand side, FCN(N, X, Y, F, RPAR, IPAR)
-   procedure(fcn_interface) :: fcn
-   !> Start time on entry, where the integration stopped on exit
-   real(dp), intent(inout) :: x
-   !> State at x
-   real(dp), intent(inout) :: y(n)
-   !> Final time, > x
-   real(dp), intent(in) :: xend
-   !> First step size guess on entry (0: RADAU5's 1e-6 for radau5, automatic for the
-   !> others), the next one on exit
-   real(dp), intent(inout) :: h
-   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol /= 0)
-   real(dp), intent(in) :: rtol(*), atol(*)
-   !> 0 for scalar tolerances, anything else for one per component
-   integer, intent(in) :: itol
-   !> The Jacobian, JAC(N, X, Y, DFY, LDFY, RPAR, IPAR), called when ijac = 1
-   procedure(jac_interface) :: jac
-   !> 1: jac is given, 0: forward differences
-   integer, intent(in) :: ijac
-   !> Lower and upper bandwidths of the Jacobian (mljac >= n: dense; else both in [0, n - 1])
-   integer, intent(in) :: mljac, mujac
-   !> The mass matrix, MAS(N, AM, LMAS, RPAR, IPAR), called once when imas /= 0
-   procedure(mas_interface) :: mas
-   !> 0: M = I; otherwise M comes from mas (radau5 only)
-   integer, intent(in) :: imas
-   !> Bandwidths of the mass matrix (mlmas = n: dense; else within the Jacobian's bands)
-   integer, intent(in) :: mlmas, mumas
-   !> Called after every accepted step when iout /= 0
-   procedure(solout_interface) :: solout
-   !> 0: never call solout
-   integer, intent(in) :: iout
-   !> Real settings WORK(1:9) (RADAU5's; 0: defaults)
-   real(dp), intent(inout) :: work(*)
-   !> Integer settings IWORK(1:11) (RADAU5's and the evaluation flag); outputs IWORK(12:20):
-   !> the reason of a failure and its detail, evaluations, Jacobians, steps, accepted,
-   !> rejected, LU, solves
-   integer, intent(inout) :: iwork(*)
-   !> Lengths of work and iwork (at least 20 each)
-   integer, intent(in) :: lwork, liwork
-   !> Real data passed to the user's routines untouched
-   real(dp), intent(inout), target :: rpar(*)
-   !> Integer data passed to the user's routines untouched
-   integer, intent(inout), target :: ipar(*)
-   !> 1 success, 2 stopped by solout, < 0 failure (see the module comment)
-   integer, intent(out) :: idid
-   call legacy_solve(scheme, n, fcn, fcn, .false., x, y, xend, h, rtol, atol, itol, jac, 0, jac, ijac, mljac, mujac, &
-      mas, imas, mlmas, mumas, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
-end subroutine taylorode
-
-!> TAYLORODE_SPLIT, with f (FCNF, explicit in the semi-implicit schemes) and g (FCNG,
-!> stiff) apart, each with its Jacobian (IJACF, IJACG = 0: differences); no mass matrix.
-subroutine taylorode_split(scheme, n, fcnf, fcng, x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, mljac, &
-   mujac, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
-   use taylorode_base_kinds, only: dp
-   use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass, fcn_interface, jac_interface, &
-      solout_interface
-   implicit none
-   !> Scheme name, as users type it ('si-t-2', 'imex-rk21', ...)
-   character(len=*), intent(in) :: scheme
-   !> Unknowns
-   integer, intent(in) :: n
-   !> The non-stiff part f and the stiff part g, FCNF(N, X, Y, F, RPAR, IPAR)
-   procedure(fcn_interface) :: fcnf, fcng
-   !> Start time on entry, where the integration stopped on exit
-   real(dp), intent(inout) :: x
-   !> State at x
-   real(dp), intent(inout) :: y(n)
-   !> Final time, > x
-   real(dp), intent(in) :: xend
-   !> First step size guess on entry (0: RADAU5's 1e-6 for radau5, automatic for the
-   !> others), the next one on exit
-   real(dp), intent(inout) :: h
-   !> Relative and absolute tolerances, scalars (itol = 0) or arrays of n (itol /= 0)
-   real(dp), intent(in) :: rtol(*), atol(*)
-   !> 0 for scalar tolerances, anything else for one per component
-   integer, intent(in) :: itol
-   !> The Jacobians of f and g, JACF(N, X, Y, DFY, LDFY, RPAR, IPAR), called when ijacf = 1 and ijacg = 1
-   procedure(jac_interface) :: jacf, jacg
-   !> 1: the Jacobian is given, 0: forward differences
-   integer, intent(in) :: ijacf, ijacg
-   !> Lower and upper bandwidths of both Jacobians (mljac >= n: dense; else both in [0, n - 1])
-   integer, intent(in) :: mljac, mujac
-   !> Called after every accepted step when iout /= 0
-   procedure(solout_interface) :: solout
-   !> 0: never call solout
-   integer, intent(in) :: iout
-   !> Real settings (as TAYLORODE)
-   real(dp), intent(inout) :: work(*)
-   !> Integer settings and outputs (as TAYLORODE)
-   integer, intent(inout) :: iwork(*)
-   !> Lengths of work and iwork (at least 20 each)
-   integer, intent(in) :: lwork, liwork
-   !> Real data passed to the user's routines untouched
-   real(dp), intent(inout), target :: rpar(*)
-   !> Integer data passed to the user's routines untouched
-   integer, intent(inout), target :: ipar(*)
-   !> 1 success, 2 stopped by solout, < 0 failure (see the module comment)
-   integer, intent(out) :: idid
-   call legacy_solve(scheme, n, fcnf, fcng, .true., x, y, xend, h, rtol, atol, itol, jacf, ijacf, jacg, ijacg, mljac, &
-      mujac, legacy_no_mass, 0, n, 0, solout, iout, work, lwork, iwork, liwork, rpar, ipar, idid)
-end subroutine taylorode_split
-
-!> TAYLORODE_CONTR(I, S, CONT, LRC), component I at S inside the step SOLOUT was
-!> given (RADAU5's CONTR5), from the step's dense output.
-function taylorode_contr(i, s, cont, lrc) result(value)
-   use taylorode_base_kinds, only: dp
-   use taylorode_interfaces_legacy, only: legacy_interpolate
-   implicit none
-   !> Component
-   integer, intent(in) :: i
-   !> Length of cont
-   integer, intent(in) :: lrc
-   !> Time inside the step
-   real(dp), intent(in) :: s
-   !> The step as SOLOUT received it
-   real(dp), intent(in) :: cont(lrc)
-   real(dp) :: value
-   value = legacy_interpolate(i, s, cont, lrc)
-end function taylorode_contr
-
-!> TAYLORODE_MESSAGE(IWORK, TEXT): why the last TAYLORODE or TAYLORODE_SPLIT call with
-!> this IWORK ended with a negative IDID, in words (from IWORK(12) and IWORK(13); blank
-!> after a success). TEXT is cut to its declared length (200 characters hold every one).
-subroutine taylorode_message(iwork, text)
-   use taylorode_interfaces_legacy, only: legacy_message
-   implicit none
-   !> The IWORK of the call
-   integer, intent(in) :: iwork(*)
-   !> The message (CHARACTER*(*))
-   character(len=*), intent(out) :: text
-   text = legacy_message(iwork(12), iwork(13))
-end subroutine taylorode_message
