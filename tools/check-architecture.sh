@@ -7,7 +7,10 @@
 #      facade `taylorode` compiles no test-set, analysis or app module;
 #   4. app/main.f90 holds the program and every other file app/<name>.f90 one module
 #      app_<name> (never taylorode_*: make install removes the app's modules, and an
-#      installation holds the library's modules only).
+#      installation holds the library's modules only);
+#   5. the legacy external procedures (src/taylorode/interfaces/legacy_entry.f90) use no
+#      module that reaches an IEEE intrinsic module through USE (gfortran would save and
+#      restore the floating-point environment around every call of them).
 # Prints one line per violation and "architecture: ok" when there is none.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -77,6 +80,21 @@ while IFS= read -r file; do
     complain "$file: defines \"$(echo $modules)\", expected exactly \"app_$base\""
   fi
 done < <(find app -name '*.f90' | sort)
+
+# The legacy externals: no module they use reaches an IEEE module (transitively)
+reached=() pending=(src/taylorode/interfaces/legacy_entry.f90)
+while [ "${#pending[@]}" -gt 0 ]; do
+  file="${pending[0]}"; pending=("${pending[@]:1}")
+  case " ${reached[*]} " in *" $file "*) continue ;; esac
+  reached+=("$file")
+  if grep -qiE '^\s*use\s*(,\s*intrinsic\s*::)?\s*ieee_' "$file"; then
+    complain "$file uses an IEEE module, and the legacy externals reach it (legacy_entry.f90)"
+  fi
+  for used in $(grep -ioE '^\s*use\s+taylorode[a-z0-9_]*' "$file" | awk '{print tolower($2)}' | sort -u); do
+    rel="$(echo "$used" | sed -E 's/^taylorode_([a-z0-9]+)_/taylorode\/\1\//')"
+    [ -f "src/$rel.f90" ] && pending+=("src/$rel.f90")
+  done
+done
 
 # A dependent project: only what its `use` statements reach is compiled (fpm prunes).
 dependent="build/check-architecture/dependent"
