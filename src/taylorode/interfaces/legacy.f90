@@ -515,8 +515,9 @@ contains
    subroutine legacy_solve_entry(scheme_name, name_length, n, fcn_f, fcn_g, has_f, x, y, xend, h, rtol, atol, &
       itol, jac_f, ijac_f, jac_g, ijac_g, mljac, mujac, mas, imas, mlmas, mumas, solout, iout, work, lwork, iwork, &
       liwork, rpar, ipar, idid) bind(c, name="taylorode_legacy_solve_entry")
-      !> Scheme name and its length
+      !> Scheme name, as characters
       character(kind=c_char), intent(in) :: scheme_name(*)
+      !> Its number of characters
       integer(c_int), value :: name_length
       !> Unknowns
       integer(c_int), intent(in) :: n
@@ -559,8 +560,9 @@ contains
       real(c_double), intent(inout) :: work(*)
       !> Integer settings and outputs
       integer(c_int), intent(inout) :: iwork(*)
-      !> The caller's data, passed to the user's routines untouched
+      !> The caller's real data, passed to the user's routines untouched
       real(c_double), intent(inout), target :: rpar(*)
+      !> The caller's integer data, passed to the user's routines untouched
       integer(c_int), intent(inout), target :: ipar(*)
       !> Outcome
       integer(c_int), intent(out) :: idid

@@ -78,9 +78,9 @@ module taylorode_interfaces_legacy_entry
       end subroutine solout_interface
    end interface
 
-   ! the entries, defined in taylorode_interfaces_legacy under these binding names
+   !> legacy_solve with C-interoperable arguments (defined in taylorode_interfaces_legacy
+   !> under this binding name; the arguments as there)
    interface
-      !> legacy_solve with C-interoperable arguments
       subroutine legacy_solve_entry(scheme_name, name_length, n, fcn_f, fcn_g, has_f, x, y, xend, h, rtol, atol, &
          itol, jac_f, ijac_f, jac_g, ijac_g, mljac, mujac, mas, imas, mlmas, mumas, solout, iout, work, lwork, &
          iwork, liwork, rpar, ipar, idid) bind(c, name="taylorode_legacy_solve_entry")
@@ -107,7 +107,11 @@ module taylorode_interfaces_legacy_entry
          integer(c_int), intent(inout), target :: ipar(*)
          integer(c_int), intent(out) :: idid
       end subroutine legacy_solve_entry
-      !> legacy_interpolate with C-interoperable arguments
+   end interface
+
+   !> legacy_interpolate with C-interoperable arguments (defined in
+   !> taylorode_interfaces_legacy under this binding name)
+   interface
       pure function legacy_interpolate_entry(i, s, cont, lrc) result(value) &
          bind(c, name="taylorode_legacy_interpolate_entry")
          import :: c_int, c_double
@@ -115,7 +119,11 @@ module taylorode_interfaces_legacy_entry
          real(c_double), intent(in) :: s, cont(lrc)
          real(c_double) :: value
       end function legacy_interpolate_entry
-      !> legacy_message into text(1:text_length)
+   end interface
+
+   !> legacy_message into text(1:text_length) (defined in taylorode_interfaces_legacy
+   !> under this binding name)
+   interface
       subroutine legacy_message_entry(reason, detail, text, text_length) bind(c, name="taylorode_legacy_message_entry")
          import :: c_int, c_char
          integer(c_int), intent(in) :: reason, detail
