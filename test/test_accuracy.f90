@@ -36,7 +36,8 @@
 !> others may fail with a status (the explicit schemes on stiff problems, the
 !> first-order ones at tight tolerances), never return a wrong state with status ok.
 !> Tolerances: 1e-2, 1e-5 and 1e-8 here (the app's `accuracy` command runs every
-!> decade); each run within 20,000 attempted steps.
+!> decade), and the implicit Taylor schemes on POLLU at 1e-9 and 1e-10, where what Newton
+!> leaves in each step adds up over many steps; each run within 20,000 attempted steps.
 !>
 !> The transistor amplifier (an index-1 DAE, M U' = F with a singular M) is here too:
 !> radau5 is held to the same bounds as on the other problems (its algebraic components
