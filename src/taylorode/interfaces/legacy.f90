@@ -41,7 +41,7 @@ module taylorode_interfaces_legacy
       difference_rhs
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
-   use taylorode_schemes_radau5, only: radau5_type, new_radau5
+   use taylorode_schemes_radau5, only: radau5_type, describe_radau5
    use taylorode_integrate_options, only: integrator_options_type, norm_rms
    use taylorode_integrate_controller, only: controller_auto, controller_i
    use taylorode_integrate_stats, only: integration_stats_type
@@ -320,7 +320,7 @@ contains
          if (.not. (ieee_is_finite(x) .and. ieee_is_finite(xend) .and. xend > x)) return
          reason = reason_scheme
          if (radau) then
-            radau_scheme = new_radau5()
+            call describe_radau5(radau_scheme)
             scheme => radau_scheme
          else
             call new_scheme(scheme_name, named_scheme, scheme_stat)

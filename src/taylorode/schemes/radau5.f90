@@ -92,7 +92,7 @@ module taylorode_schemes_radau5
    implicit none
    private
 
-   public :: radau5_type, new_radau5
+   public :: radau5_type, new_radau5, describe_radau5
 
    real(dp), parameter :: sqrt6 = sqrt(6.0_dp)
    !> Nodes and the differences the collocation polynomial uses
@@ -225,6 +225,15 @@ contains
    !> The Radau IIA (order 5) scheme.
    function new_radau5() result(self)
       type(radau5_type) :: self
+      call describe_radau5(self)
+   end function new_radau5
+
+   !> Give a radau5 object (default-initialised) its self-description and properties in
+   !> place: what new_radau5 returns, without the copy of the whole object its result
+   !> costs (the legacy entry's local scheme, one per call).
+   subroutine describe_radau5(self)
+      !> The scheme
+      type(radau5_type), intent(inout) :: self
       self%name = "radau5"
       self%order = 5
       self%nonlinear_order = 5
@@ -240,7 +249,7 @@ contains
       self%solves_mass = .true.
       self%update = "Z_i = h sum_j a_ij F(t0 + c_j h, U0 + Z_j), U1 = U0 + Z_3 (Radau IIA, 3 stages)"
       self%newton_matrices = "(gamma/h) I - J (real n x n), ((alpha + i beta)/h) I - J (complex n x n)"
-   end function new_radau5
+   end subroutine describe_radau5
 
    !> Stability function of Radau IIA order 5: the (2, 3) Pade approximation of exp(s), s = z + w.
    pure function radau_stability(self, z, w) result(r)
