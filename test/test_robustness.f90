@@ -1109,7 +1109,9 @@ contains
    ! ------------------------------------------------------------ second campaign
 
    !> advance_to with another object of the scheme init prepared (or the same one
-   !> prepared since for another size) is an error, not a crash in unprepared work arrays.
+   !> prepared since for another size, or for a problem whose `autonomous` has changed
+   !> since: the schemes keep dF/dt's work arrays only for a problem that depends on t)
+   !> is an error, not a crash in unprepared work arrays.
    subroutine test_scheme_prepared_checked(error)
       type(error_type), allocatable, intent(out) :: error
       type(van_der_pol_type) :: problem
@@ -1135,6 +1137,20 @@ contains
       call integrator%advance_to(problem, scheme, 1.0_dp, u, stat)
       call check(error, stat%code == status_invalid_argument, "a scheme prepared since for 4 unknowns: "// &
          stat_message(stat))
+      if (allocated(error)) return
+      call new_scheme("si-t-2", scheme, stat)
+      u = problem%u0
+      call integrator%init(problem, scheme, 0.0_dp, u, integrator_options_type(), stat)
+      call check(error, stat%code == status_ok .and. problem%autonomous, "si-t-2: "//stat_message(stat))
+      if (allocated(error)) return
+      problem%autonomous = .false.
+      call integrator%advance_to(problem, scheme, 1.0_dp, u, stat)
+      call check(error, stat%code == status_invalid_argument .and. index(stat_message(stat), "autonomous") > 0, &
+         "problem%autonomous changed since init: "//stat_message(stat))
+      if (allocated(error)) return
+      problem%autonomous = .true.
+      call integrator%advance_to(problem, scheme, 1.0_dp, u, stat)
+      call check(error, stat%code == status_ok, "problem%autonomous as at init again: "//stat_message(stat))
    end subroutine test_scheme_prepared_checked
 
    !> The C interface checks whole-number options and bandwidths itself (no float to

@@ -593,6 +593,12 @@ contains
             call set_status(stat, status_invalid_argument, "integrate: pass the scheme init prepared")
             return
          end if
+         ! the schemes keep dF/dt's work arrays only for a problem that depends on t
+         if (scheme%autonomous .neqv. problem%autonomous) then
+            call set_status(stat, status_invalid_argument, "integrate: problem%autonomous changed since init "// &
+               "(the scheme prepared its work arrays for it): call init again")
+            return
+         end if
          if (.not. (ieee_is_finite(t_target) .and. t_target >= t)) then
             call set_status(stat, status_invalid_argument, "integrate: the target time must be finite and not "// &
                "before the current time (backward integration is not supported: substitute s = -t)")

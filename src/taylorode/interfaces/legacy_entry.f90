@@ -3,9 +3,10 @@
 !> and what they need to call it: the shapes of the user's routines and the
 !> C-interoperable entries of taylorode_interfaces_legacy. The external procedures use
 !> this module alone, which reaches no IEEE module: gfortran saves, clears and restores
-!> the floating-point environment around every procedure whose scope reaches one through
-!> USE (0.2 us a call, a third of a one-step TAYLORODE call's own cost before), and a
-!> module's procedures are not such procedures, its external callers are.
+!> the floating-point environment around every procedure whose own scope reaches one
+!> through USE (0.2 us a call, an eighth of a one-step TAYLORODE call before). A module
+!> procedure is not wrapped for its module's use of one; an external procedure that uses
+!> such a module is.
 module taylorode_interfaces_legacy_entry
    use taylorode_base_kinds, only: dp
    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_funptr, c_funloc, c_null_funptr
