@@ -656,12 +656,13 @@ contains
       end subroutine put
    end subroutine amplifier_mas
 
-   !> Van der Pol split: f = (y2, 0), g = (0, mu ((1 - y1^2) y2 - y1))
+   !> Van der Pol split (f = (y2, 0), g = (0, mu ((1 - y1^2) y2 - y1))): `vdp` and
+   !> `vdp_jacobian` with the other part's rows zeroed
    subroutine vdp_f(n, x, y, f, rpar, ipar)
       integer :: n
       real(dp) :: x, y(n), f(n), rpar(*)
       integer :: ipar(*)
-      f(1) = y(2)
+      call vdp(n, x, y, f, rpar, ipar)
       f(2) = 0.0_dp
    end subroutine vdp_f
 
@@ -669,25 +670,24 @@ contains
       integer :: n
       real(dp) :: x, y(n), f(n), rpar(*)
       integer :: ipar(*)
+      call vdp(n, x, y, f, rpar, ipar)
       f(1) = 0.0_dp
-      f(2) = mu*((1.0_dp - y(1)**2)*y(2) - y(1))
    end subroutine vdp_g
 
    subroutine vdp_f_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
       integer :: n, ldfy
       real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
       integer :: ipar(*)
-      dfy(1:2, 1:2) = 0.0_dp
-      dfy(1, 2) = 1.0_dp
+      call vdp_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      dfy(2, 1:2) = 0.0_dp
    end subroutine vdp_f_jacobian
 
    subroutine vdp_g_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
       integer :: n, ldfy
       real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
       integer :: ipar(*)
-      dfy(1:2, 1:2) = 0.0_dp
-      dfy(2, 1) = mu*(-2.0_dp*y(1)*y(2) - 1.0_dp)
-      dfy(2, 2) = mu*(1.0_dp - y(1)**2)
+      call vdp_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      dfy(1, 1:2) = 0.0_dp
    end subroutine vdp_g_jacobian
 
    !> rpar(1) += both components at a quarter, half and three quarters of every step,
