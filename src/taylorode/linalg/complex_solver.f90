@@ -4,7 +4,8 @@
 !>
 !> The solver assembles s I - J from a real dense or band `matrix_type`, factors
 !> it with partial pivoting (zgetrf, or zgbtrf in band storage with room for the
-!> fill-in) and solves with the factors as often as needed. (Radau IIA keeps the
+!> fill-in; bands up to `narrow_band_max_width` wide by the written-out band LU, as
+!> the real solver does) and solves with the factors as often as needed. (Radau IIA keeps the
 !> factors of small dense systems itself: `small_lu_factor`, `small_lu_solve_pair`.) A J whose storage does not fit the
 !> solver's (a dense J for a band solver, bandwidths wider than the solver's) is
 !> reported as status_invalid_argument, never silently truncated.
@@ -16,7 +17,7 @@ module taylorode_linalg_complex_solver
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, storage_dense, storage_band
    use taylorode_linalg_lapack, only: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, &
-      complex_band_lu_solve
+      complex_band_lu_solve, narrow_band_lu_factor, narrow_band_lu_solve, narrow_band_max_width
    implicit none
    private
 
@@ -35,6 +36,10 @@ module taylorode_linalg_complex_solver
       complex(dp), allocatable :: a(:, :)
       !> Row interchanges of the factorization
       integer, allocatable :: pivots(:)
+      !> Reciprocals of the pivots (band matrices factored by the written-out band LU)
+      complex(dp), allocatable :: inverse_diagonal(:)
+      !> Superdiagonals of the band factor U that hold entries (written-out band LU)
+      integer :: upper_width = 0
       !> Right-hand side work space of `solve_parts`
       complex(dp), allocatable :: work(:)
       !> Whether `a` holds valid factors
@@ -94,10 +99,10 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      allocate (solver%pivots(n), solver%work(n), stat=memory)
+      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%a)
-         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [2, n], complex_bytes)
+         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [3, n], complex_bytes)
       end if
    end subroutine new_complex_solver
 
@@ -176,11 +181,24 @@ contains
                end if
                diagonal = self%kl + self%ku + 1
                shift_b = b%diagonal
-               if (first) self%a = (0.0_dp, 0.0_dp)
                do j = 1, self%n
-                  do i = max(1, j - b%ku), min(self%n, j + b%kl)
-                     self%a(diagonal + i - j, j) = self%a(diagonal + i - j, j) + factor*b%ab(shift_b + i - j, j)
-                  end do
+                  if (first) then
+                     ! the band's rows of column j set in one pass (the rows kept for the
+                     ! fill-in are left alone: the factorizations set them)
+                     do i = max(1, j - self%ku), j - b%ku - 1
+                        self%a(diagonal + i - j, j) = (0.0_dp, 0.0_dp)
+                     end do
+                     do i = max(1, j - b%ku), min(self%n, j + b%kl)
+                        self%a(diagonal + i - j, j) = factor*b%ab(shift_b + i - j, j)
+                     end do
+                     do i = j + b%kl + 1, min(self%n, j + self%kl)
+                        self%a(diagonal + i - j, j) = (0.0_dp, 0.0_dp)
+                     end do
+                  else
+                     do i = max(1, j - b%ku), min(self%n, j + b%kl)
+                        self%a(diagonal + i - j, j) = self%a(diagonal + i - j, j) + factor*b%ab(shift_b + i - j, j)
+                     end do
+                  end if
                end do
             end if
          class default
@@ -202,7 +220,10 @@ contains
       !> radau5 tests the real matrix it builds from the same Jacobian)
       type(status_type), intent(inout) :: stat
       integer :: info
-      if (self%storage == storage_band) then
+      if (self%storage == storage_band .and. self%kl <= narrow_band_max_width) then
+         call narrow_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info, self%inverse_diagonal, &
+            self%upper_width)
+      else if (self%storage == storage_band) then
          call complex_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info)
       else
          call complex_lu_factor(self%a, self%pivots, info)
@@ -228,7 +249,10 @@ contains
          call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
          return
       end if
-      if (self%storage == storage_band) then
+      if (self%storage == storage_band .and. self%kl <= narrow_band_max_width) then
+         call narrow_band_lu_solve(self%a, self%kl, self%ku, self%pivots, x, self%inverse_diagonal, &
+            self%upper_width)
+      else if (self%storage == storage_band) then
          call complex_band_lu_solve(self%a, self%kl, self%ku, self%pivots, x, info)
       else
          call complex_lu_solve(self%a, self%pivots, x, info)

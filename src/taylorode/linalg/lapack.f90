@@ -11,7 +11,9 @@
 !>
 !> `narrow_band_lu_factor` and `narrow_band_lu_solve` are dgbtrf's unblocked path
 !> (dgbtf2) and dgbtrs written out, operation for operation, for narrow bands (the
-!> solve optionally multiplies by the reciprocals of the pivots).
+!> solve optionally multiplies by the reciprocals of the pivots), and for complex
+!> matrices zgbtrf's and zgbtrs's (radau5's second Newton matrix on banded problems,
+!> where zgbtrs's BLAS calls per column cost more than their arithmetic).
 !>
 !> Beside them, `small_lu_factor` and `small_lu_solve`: the same LU with partial
 !> pivoting (LAPACK's pivot choice and factor layout) written out for the tiny
@@ -43,6 +45,16 @@ module taylorode_linalg_lapack
    !> dgbtf2, as dgbtrf runs it for such bands) replaces the call: below it, calling
    !> BLAS once per column costs more than the column's arithmetic
    integer, parameter :: narrow_band_max_width = 32
+
+   !> Band LU factorization with partial pivoting written out (real or complex)
+   interface narrow_band_lu_factor
+      module procedure narrow_band_lu_factor_real, narrow_band_lu_factor_complex
+   end interface narrow_band_lu_factor
+
+   !> Solve with the factors of `narrow_band_lu_factor` (real or complex)
+   interface narrow_band_lu_solve
+      module procedure narrow_band_lu_solve_real, narrow_band_lu_solve_complex
+   end interface narrow_band_lu_solve
 
    !> LU factorization with partial pivoting written out (real or complex)
    interface small_lu_factor
@@ -144,7 +156,7 @@ contains
    !> dgbtf2 (which dgbtrf runs for bands up to its block size) operation for
    !> operation, without a BLAS call per column. Storage as `band_lu_factor`; the
    !> caller checks the sizes. info = j > 0: U(j, j) is exactly zero.
-   pure subroutine narrow_band_lu_factor(ab, kl, ku, ipiv, info, inverse_diagonal, upper_width)
+   pure subroutine narrow_band_lu_factor_real(ab, kl, ku, ipiv, info, inverse_diagonal, upper_width)
       !> Band matrix on entry, its LU factors on exit
       real(dp), contiguous, intent(inout) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -219,13 +231,13 @@ contains
          end if
       end do
       if (present(upper_width)) upper_width = width
-   end subroutine narrow_band_lu_factor
+   end subroutine narrow_band_lu_factor_real
 
    !> Solve A x = b with the factors of `narrow_band_lu_factor` (or `band_lu_factor`):
    !> the row interchanges and L forward as LAPACK's dgbtrs applies them, then U
    !> backward, row by row over the superdiagonals that hold entries (dgbtrs's dtbsv
    !> goes column by column: the sums agree to rounding); b is overwritten by x.
-   pure subroutine narrow_band_lu_solve(ab, kl, ku, ipiv, b, inverse_diagonal, upper_width)
+   pure subroutine narrow_band_lu_solve_real(ab, kl, ku, ipiv, b, inverse_diagonal, upper_width)
       !> LU factors
       real(dp), contiguous, intent(in) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -278,7 +290,134 @@ contains
             b(j) = total/ab(kd, j)
          end if
       end do
-   end subroutine narrow_band_lu_solve
+   end subroutine narrow_band_lu_solve_real
+
+   !> Complex counterpart of `narrow_band_lu_factor_real`: LAPACK's zgbtf2 (which zgbtrf
+   !> runs for such bands) written out, the pivot of largest |Re| + |Im| (izamax's
+   !> measure), the multipliers scaled by the pivot's reciprocal (`reciprocal`).
+   pure subroutine narrow_band_lu_factor_complex(ab, kl, ku, ipiv, info, inverse_diagonal, upper_width)
+      !> Band matrix on entry, its LU factors on exit
+      complex(dp), contiguous, intent(inout) :: ab(:, :)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: kl, ku
+      !> Pivot indices, size(ab, 2)
+      integer, contiguous, intent(out) :: ipiv(:)
+      !> 0 success, j > 0 singular (first zero pivot)
+      integer, intent(out) :: info
+      !> 1/U(j, j), for solves that multiply instead of dividing
+      complex(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
+      !> Superdiagonals of U that hold entries (see `narrow_band_lu_factor_real`)
+      integer, intent(out), optional :: upper_width
+      integer :: n, kv, i, j, jp, ju, km, c, width
+      real(dp) :: largest
+      complex(dp) :: swap, reciprocal_pivot, factor
+
+      n = size(ab, 2)
+      kv = ku + kl
+      info = 0
+      do j = ku + 2, min(kv, n)
+         do i = kv - j + 2, kl
+            ab(i, j) = (0.0_dp, 0.0_dp)
+         end do
+      end do
+      ju = 1
+      width = min(ku, n - 1)
+      do j = 1, n
+         if (j + kv <= n) ab(1:kl, j + kv) = (0.0_dp, 0.0_dp)
+         km = min(kl, n - j)
+         jp = 1
+         largest = abs(ab(kv + 1, j)%re) + abs(ab(kv + 1, j)%im)
+         do i = 2, km + 1
+            if (abs(ab(kv + i, j)%re) + abs(ab(kv + i, j)%im) > largest) then
+               largest = abs(ab(kv + i, j)%re) + abs(ab(kv + i, j)%im)
+               jp = i
+            end if
+         end do
+         ipiv(j) = jp + j - 1
+         if (largest == 0.0_dp) then
+            if (info == 0) info = j
+            if (present(inverse_diagonal)) inverse_diagonal(j) = (0.0_dp, 0.0_dp)
+            cycle
+         end if
+         ju = max(ju, min(j + ku + jp - 1, n))
+         width = max(width, ju - j)
+         if (jp /= 1) then
+            do c = j, ju
+               swap = ab(kv + jp - (c - j), c)
+               ab(kv + jp - (c - j), c) = ab(kv + 1 - (c - j), c)
+               ab(kv + 1 - (c - j), c) = swap
+            end do
+         end if
+         reciprocal_pivot = reciprocal(ab(kv + 1, j))
+         if (present(inverse_diagonal)) inverse_diagonal(j) = reciprocal_pivot
+         if (km > 0) then
+            do i = 1, km
+               ab(kv + 1 + i, j) = ab(kv + 1 + i, j)*reciprocal_pivot
+            end do
+            do c = j + 1, ju
+               factor = -ab(kv + 1 - (c - j), c)
+               if (factor == (0.0_dp, 0.0_dp)) cycle
+               !GCC$ novector
+               do i = 1, km
+                  ab(kv + 1 + i - (c - j), c) = ab(kv + 1 + i - (c - j), c) + ab(kv + 1 + i, j)*factor
+               end do
+            end do
+         end if
+      end do
+      if (present(upper_width)) upper_width = width
+   end subroutine narrow_band_lu_factor_complex
+
+   !> Complex counterpart of `narrow_band_lu_solve_real`, with the factors of
+   !> `narrow_band_lu_factor_complex`; b is overwritten by x.
+   pure subroutine narrow_band_lu_solve_complex(ab, kl, ku, ipiv, b, inverse_diagonal, upper_width)
+      !> LU factors
+      complex(dp), contiguous, intent(in) :: ab(:, :)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: kl, ku
+      !> Pivot indices
+      integer, contiguous, intent(in) :: ipiv(:)
+      !> Right-hand side on entry, solution on exit
+      complex(dp), contiguous, intent(inout) :: b(:)
+      !> 1/U(j, j) from `narrow_band_lu_factor_complex` (multiplied instead of dividing)
+      complex(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
+      !> `upper_width` from `narrow_band_lu_factor_complex` (default kl + ku)
+      integer, intent(in), optional :: upper_width
+      integer :: n, kd, j, i, l, lm, width
+      complex(dp) :: swap, factor, total
+
+      n = size(ab, 2)
+      kd = kl + ku + 1
+      width = kl + ku
+      if (present(upper_width)) width = min(upper_width, width)
+      if (kl > 0) then
+         do j = 1, n - 1
+            lm = min(kl, n - j)
+            l = ipiv(j)
+            if (l /= j) then
+               swap = b(l)
+               b(l) = b(j)
+               b(j) = swap
+            end if
+            factor = -b(j)
+            !GCC$ novector
+            do i = 1, lm
+               b(j + i) = b(j + i) + ab(kd + i, j)*factor
+            end do
+         end do
+      end if
+      do j = n, 1, -1
+         total = b(j)
+         !GCC$ novector
+         do i = min(width, n - j), 1, -1
+            total = total - ab(kd - i, j + i)*b(j + i)
+         end do
+         if (present(inverse_diagonal)) then
+            b(j) = total*inverse_diagonal(j)
+         else
+            b(j) = total/ab(kd, j)
+         end if
+      end do
+   end subroutine narrow_band_lu_solve_complex
 
    !> Solve A x = b with the factors from `band_lu_factor`; b is overwritten by x.
    pure subroutine band_lu_solve(ab, kl, ku, ipiv, b, info)

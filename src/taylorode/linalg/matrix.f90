@@ -249,6 +249,29 @@ contains
       class(matrix_type), intent(in) :: b
       !> status_invalid_argument on a storage mismatch
       type(status_type), intent(inout) :: stat
+      integer :: j, first, last, first_b, last_b
+      select type (self)
+      type is (band_matrix_type)
+         select type (b)
+         type is (band_matrix_type)
+            if (b%n == self%n .and. b%kl <= self%kl .and. b%ku <= self%ku) then
+               ! one pass over the band, column j's rows j - ku ... j + kl (at ab rows
+               ! first ... last); the rows kept for the LU fill-in are left alone: the
+               ! factorizations set them
+               do j = 1, self%n
+                  first = self%diagonal - min(self%ku, j - 1)
+                  last = self%diagonal + min(self%kl, self%n - j)
+                  first_b = max(first, self%diagonal - b%ku)
+                  last_b = min(last, self%diagonal + b%kl)
+                  self%ab(first:first_b - 1, j) = 0.0_dp
+                  self%ab(first_b:last_b, j) = alpha*b%ab(first_b - self%diagonal + b%diagonal:last_b - &
+                     self%diagonal + b%diagonal, j)
+                  self%ab(last_b + 1:last, j) = 0.0_dp
+               end do
+               return
+            end if
+         end select
+      end select
       call self%set_zero()
       call self%add_scaled(alpha, b, stat)
    end subroutine set_scaled
