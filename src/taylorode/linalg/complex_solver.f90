@@ -99,7 +99,10 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      allocate (solver%pivots(n), solver%work(n), solver%inverse_diagonal(n), stat=memory)
+      allocate (solver%pivots(n), solver%work(n), stat=memory)
+      ! the reciprocal pivots only for the written-out band LU
+      if (memory == 0 .and. solver%storage == storage_band .and. solver%kl <= narrow_band_max_width) &
+         allocate (solver%inverse_diagonal(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%a)
          call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [3, n], complex_bytes)
