@@ -644,9 +644,12 @@ contains
          do i = k + 1, n
             a(i, k) = a(i, k)*pivot
          end do
+         ! (a zero row entry leaves its column as it is: skipped, as dger skips it; the
+         ! Jacobians of chemical kinetics are mostly zeros)
          !GCC$ unroll 1
          do j = k + 1, n
             factor = a(k, j)
+            if (factor == 0.0_dp) cycle
             !GCC$ unroll 1
             do i = k + 1, n
                a(i, j) = a(i, j) - factor*a(i, k)
@@ -940,6 +943,7 @@ contains
          !GCC$ unroll 1
          do j = k + 1, n
             factor = a(k, j)
+            if (factor == (0.0_dp, 0.0_dp)) cycle
             !GCC$ unroll 1
             do i = k + 1, n
                a(i, j) = a(i, j) - factor*a(i, k)
