@@ -54,7 +54,7 @@ module taylorode_linalg_matrix
       !> Block (r, c) of A, of order 2 n_B, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
       procedure(block_interface), deferred :: add_block
       !> A = alpha B
-      procedure, non_overridable :: set_scaled
+      procedure :: set_scaled
       !> Whether every entry of the matrix is finite (neither NaN nor Inf)
       procedure, non_overridable :: all_finite
    end type matrix_type
@@ -104,6 +104,8 @@ module taylorode_linalg_matrix
       procedure :: add_identity => band_add_identity
       !> Block (r, c) of A, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
       procedure :: add_block => band_add_block
+      !> A = alpha B, in one pass over the band when B is a band matrix within A's bands
+      procedure :: set_scaled => band_set_scaled
    end type band_matrix_type
 
    abstract interface
@@ -249,29 +251,6 @@ contains
       class(matrix_type), intent(in) :: b
       !> status_invalid_argument on a storage mismatch
       type(status_type), intent(inout) :: stat
-      integer :: j, first, last, first_b, last_b
-      select type (self)
-      type is (band_matrix_type)
-         select type (b)
-         type is (band_matrix_type)
-            if (b%n == self%n .and. b%kl <= self%kl .and. b%ku <= self%ku) then
-               ! one pass over the band, column j's rows j - ku ... j + kl (at ab rows
-               ! first ... last); the rows kept for the LU fill-in are left alone: the
-               ! factorizations set them
-               do j = 1, self%n
-                  first = self%diagonal - min(self%ku, j - 1)
-                  last = self%diagonal + min(self%kl, self%n - j)
-                  first_b = max(first, self%diagonal - b%ku)
-                  last_b = min(last, self%diagonal + b%kl)
-                  self%ab(first:first_b - 1, j) = 0.0_dp
-                  self%ab(first_b:last_b, j) = alpha*b%ab(first_b - self%diagonal + b%diagonal:last_b - &
-                     self%diagonal + b%diagonal, j)
-                  self%ab(last_b + 1:last, j) = 0.0_dp
-               end do
-               return
-            end if
-         end select
-      end select
       call self%set_zero()
       call self%add_scaled(alpha, b, stat)
    end subroutine set_scaled
@@ -471,6 +450,35 @@ contains
          call mismatch(stat, "a sum")
       end select
    end subroutine band_add_scaled
+
+   !> A = alpha B for a band B within A's bands in one pass over the band: column j's
+   !> rows j - ku ... j + kl (at ab rows first ... last), alpha B inside B's bands, zero
+   !> outside; the rows kept for the LU fill-in are left alone (the factorizations set
+   !> them). Any other B: set_zero, then add_scaled.
+   subroutine band_set_scaled(self, alpha, b, stat)
+      class(band_matrix_type), intent(inout) :: self
+      real(dp), intent(in) :: alpha
+      class(matrix_type), intent(in) :: b
+      type(status_type), intent(inout) :: stat
+      integer :: j, first, last, first_b, last_b
+      select type (b)
+      type is (band_matrix_type)
+         if (b%n == self%n .and. b%kl <= self%kl .and. b%ku <= self%ku) then
+            do j = 1, self%n
+               first = self%diagonal - min(self%ku, j - 1)
+               last = self%diagonal + min(self%kl, self%n - j)
+               first_b = max(first, self%diagonal - b%ku)
+               last_b = min(last, self%diagonal + b%kl)
+               self%ab(first:first_b - 1, j) = 0.0_dp
+               self%ab(first_b:last_b, j) = alpha*b%ab(first_b - self%diagonal + b%diagonal:last_b - &
+                  self%diagonal + b%diagonal, j)
+               self%ab(last_b + 1:last, j) = 0.0_dp
+            end do
+            return
+         end if
+      end select
+      call set_scaled(self, alpha, b, stat)
+   end subroutine band_set_scaled
 
    subroutine band_add_identity(self, alpha)
       class(band_matrix_type), intent(inout) :: self
