@@ -69,6 +69,7 @@ contains
       !> status_invalid_argument for an impossible structure, status_out_of_memory
       type(status_type), intent(inout) :: stat
       integer :: memory
+      logical :: written_out
       if (n < 1) then
          call set_status(stat, status_invalid_argument, "complex solver: the order must be at least 1")
          return
@@ -99,13 +100,14 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      allocate (solver%pivots(n), solver%work(n), stat=memory)
       ! the reciprocal pivots only for the written-out band LU
-      if (memory == 0 .and. solver%storage == storage_band .and. solver%kl <= narrow_band_max_width) &
-         allocate (solver%inverse_diagonal(n), stat=memory)
+      written_out = solver%storage == storage_band .and. solver%kl <= narrow_band_max_width
+      allocate (solver%pivots(n), solver%work(n), stat=memory)
+      if (memory == 0 .and. written_out) allocate (solver%inverse_diagonal(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%a)
-         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [3, n], complex_bytes)
+         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", &
+            [merge(3, 2, written_out), n], complex_bytes)
       end if
    end subroutine new_complex_solver
 
