@@ -701,25 +701,40 @@ contains
    end subroutine test_pure_relative
 
    !> (9) A tolerance below roundoff is raised to what double precision resolves, and
-   !> the statistics say so.
+   !> the statistics say so: radau5 weighs at the start of a step, i-t-2 at both ends
+   !> (with vector tolerances through the general weights, with scalar ones in one pass;
+   !> h0 given, so that the first step size's estimate, which weighs too, is not made).
    subroutine test_tolerance_below_roundoff(error)
       type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
+      real(dp), parameter :: t_end(2) = [1.0_dp, 0.01_dp]
       type(van_der_pol_type) :: problem
       class(scheme_type), allocatable :: scheme
       type(integration_stats_type) :: stats
       type(status_type) :: stat
+      type(integrator_options_type) :: options
       real(dp) :: u(2)
+      integer :: k, vectors
       problem = new_van_der_pol(1.0_dp)
-      call new_scheme("radau5", scheme, stat)
-      u = problem%u0
-      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(rtol=1.0e-16_dp, atol=1.0e-16_dp), &
-         stats, stat)
-      call check(error, stat%code == status_ok .and. stats%weights_raised, "1e-16 not raised: "//stat_message(stat))
-      if (allocated(error)) return
-      u = problem%u0
-      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp), &
-         stats, stat)
-      call check(error, stat%code == status_ok .and. .not. stats%weights_raised, "1e-8 must not be raised")
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         do vectors = 0, 1
+            options = integrator_options_type(rtol=1.0e-16_dp, atol=1.0e-16_dp, h0=1.0e-4_dp)
+            if (vectors == 1) options%atol_vector = [1.0e-16_dp, 1.0e-16_dp]
+            u = problem%u0
+            call integrate(problem, scheme, 0.0_dp, t_end(k), u, options, stats, stat)
+            call check(error, stat%code == status_ok .and. stats%weights_raised, trim(names(k))// &
+               ": 1e-16 not raised: "//stat_message(stat))
+            if (allocated(error)) return
+            options = integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp, h0=1.0e-4_dp)
+            if (vectors == 1) options%atol_vector = [1.0e-8_dp, 1.0e-8_dp]
+            u = problem%u0
+            call integrate(problem, scheme, 0.0_dp, t_end(k), u, options, stats, stat)
+            call check(error, stat%code == status_ok .and. .not. stats%weights_raised, trim(names(k))// &
+               ": 1e-8 must not be raised")
+            if (allocated(error)) return
+         end do
+      end do
    end subroutine test_tolerance_below_roundoff
 
    !> (10) A stiff part that turns NaN is reported as non-finite (not as a step-size

@@ -94,6 +94,10 @@ module taylorode_integrate_stepper
       real(dp) :: err_previous = 1.0_dp, err_before = 1.0_dp
       !> Whether some absolute tolerance is zero (weights may then need the state's size)
       logical :: zero_atol = .false.
+      !> Whether the weights come from the scalar atol and rtol alone (no vectors, no
+      !> weights of your own, atol > 0): attempts then weigh in one pass
+      !> (scalar_tolerance_weights) instead of through set_weights
+      logical :: scalar_tolerances = .false.
       !> Whether a weight was raised to the roundoff floor
       logical :: weights_raised = .false.
       !> The controller in use (options%controller, controller_auto resolved)
@@ -227,6 +231,8 @@ contains
       end if
       ! weights of your own may be zero anywhere: the same fallback guards them
       self%zero_atol = self%zero_atol .or. allocated(options%error_weights)
+      self%scalar_tolerances = .not. (self%zero_atol .or. allocated(options%atol_vector) .or. &
+         allocated(options%rtol_vector))
       self%weights_raised = .false.
       self%h_previous = 0.0_dp
       self%controller = options%controller
@@ -295,6 +301,52 @@ contains
       end do
    end subroutine set_weights
 
+   !> set_weights for scalar tolerances (atol > 0): w_i = atol + rtol max(|a_i|, |b_i|),
+   !> at least roundoff_weight max(|a_i|, |b_i|) (raised set when a weight was raised),
+   !> in one pass over arrays the compiler can tell apart.
+   pure subroutine scalar_tolerance_weights(n, atol, rtol, a, b, weights, raised)
+      !> Unknowns (of this process)
+      integer, intent(in) :: n
+      !> The scalar tolerances
+      real(dp), intent(in) :: atol, rtol
+      !> The two states
+      real(dp), intent(in) :: a(:), b(:)
+      !> The weights
+      real(dp), intent(out) :: weights(n)
+      !> Set when a weight was raised to the roundoff floor (else unchanged)
+      logical, intent(inout) :: raised
+      real(dp) :: size_i, weight
+      integer :: i
+      do i = 1, n
+         size_i = max(abs(a(i)), abs(b(i)))
+         weight = atol + rtol*size_i
+         if (weight < roundoff_weight*size_i) then
+            weight = roundoff_weight*size_i
+            raised = .true.
+         end if
+         weights(i) = weight
+      end do
+   end subroutine scalar_tolerance_weights
+
+   !> Newton's tolerances: the fraction of the weights, but never below what roundoff
+   !> allows at u, nor zero.
+   pure subroutine newton_tolerances(n, fraction, weights, u, tolerance)
+      !> Unknowns (of this process)
+      integer, intent(in) :: n
+      !> Fraction of the weights given to Newton
+      real(dp), intent(in) :: fraction
+      !> The error weights
+      real(dp), intent(in) :: weights(n)
+      !> The state at the start of the step
+      real(dp), intent(in) :: u(:)
+      !> The tolerances
+      real(dp), intent(out) :: tolerance(n)
+      integer :: i
+      do i = 1, n
+         tolerance(i) = max(fraction*weights(i), newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
+      end do
+   end subroutine newton_tolerances
+
    !> Max or RMS norm of v / w (over every process that holds a part of v).
    real(dp) function weighted_norm(self, problem, options, v)
       !> The stepper (its weights)
@@ -307,12 +359,16 @@ contains
       real(dp), intent(in) :: v(:)
       integer :: i
       weighted_norm = 0.0_dp
+      ! (the loops are chains through weighted_norm: unrolling them gains nothing on many
+      ! unknowns and costs the unrolled loop's entry on a few)
       if (options%norm == norm_max) then
+         !GCC$ unroll 1
          do i = 1, size(v)
             weighted_norm = max(weighted_norm, abs(v(i))/self%weights(i))
          end do
          weighted_norm = reduced_max(problem, weighted_norm)
       else
+         !GCC$ unroll 1
          do i = 1, size(v)
             weighted_norm = weighted_norm + (v(i)/self%weights(i))**2
          end do
@@ -354,12 +410,12 @@ contains
       h_next = h
       delta_propagated = .false.
       call set_code(step_stat, status_ok)
-      call self%set_weights(problem, options, u, u)
-      ! never ask for more than roundoff allows, nor for a zero tolerance
-      do i = 1, size(u)
-         self%newton%tolerance(i) = max(self%newton_fraction*self%weights(i), &
-            newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
-      end do
+      if (self%scalar_tolerances) then
+         call scalar_tolerance_weights(size(u), options%atol, options%rtol, u, u, self%weights, self%weights_raised)
+      else
+         call self%set_weights(problem, options, u, u)
+      end if
+      call newton_tolerances(size(u), self%newton_fraction, self%weights, u, self%newton%tolerance)
       if (self%estimate == estimate_doubling) then
          do i = 1, size(u)
             self%newton_whole%tolerance(i) = max(self%newton%tolerance(i), self%whole_newton_fraction*self%weights(i))
@@ -392,7 +448,14 @@ contains
          h_next = failure_shrink*h
          return
       end select
-      if (.not. scheme%weights_at_start) call self%set_weights(problem, options, u, self%u_new)
+      if (.not. scheme%weights_at_start) then
+         if (self%scalar_tolerances) then
+            call scalar_tolerance_weights(size(u), options%atol, options%rtol, u, self%u_new, self%weights, &
+               self%weights_raised)
+         else
+            call self%set_weights(problem, options, u, self%u_new)
+         end if
+      end if
       if (allocated(options%nonnegative)) then
          call keep_nonnegative()
          if (outcome == attempt_rejected_constraint) return
@@ -575,8 +638,9 @@ contains
          class(scheme_type), intent(inout) :: stepper_scheme
          type(newton_settings_type), intent(in) :: settings
          real(dp), intent(in) :: t_from, step, u_from(:)
-         real(dp), intent(out) :: u_to(:)
-         real(dp), intent(out), optional :: difference(:)
+         ! (the stepper's own arrays: contiguous, which makes the checks of conclude cheap)
+         real(dp), intent(out), contiguous :: u_to(:)
+         real(dp), intent(out), contiguous, optional :: difference(:)
          call problem%clear_rejection()
          if (self%extrapolate) then
             call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference, &
@@ -591,8 +655,8 @@ contains
       !> given), agreed on by every process: a rejected evaluation, NaN or Inf values,
       !> or the scheme's own failure (Newton's or its linear algebra's).
       subroutine conclude(values, more_values)
-         real(dp), intent(in) :: values(:)
-         real(dp), intent(in), optional :: more_values(:)
+         real(dp), intent(in), contiguous :: values(:)
+         real(dp), intent(in), contiguous, optional :: more_values(:)
          if (problem%evaluation_rejected()) then
             call set_code(step_stat, status_evaluation_failed)
             ! status_out_of_memory, when a work array of the problem could not be allocated
@@ -656,9 +720,11 @@ contains
 
    !> Whether every entry of v is finite.
    pure logical function finite(v)
-      real(dp), intent(in) :: v(:)
+      real(dp), intent(in), contiguous :: v(:)
       integer :: i
       finite = .false.
+      ! (not unrolled: on a few unknowns the unrolled loop's entry costs more than the tests)
+      !GCC$ unroll 1
       do i = 1, size(v)
          if (.not. ieee_is_finite(v(i))) return
       end do
