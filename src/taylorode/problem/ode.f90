@@ -314,8 +314,9 @@ contains
       class(ode_problem), intent(inout) :: self
       self%rejected = .false.
       self%fatal = .false.
-      ! the 200 blanks are written only over a message (every attempt clears)
-      if (self%memory(1:1) /= " ") self%memory = ""
+      ! the 200 blanks are written only over a message (every attempt clears; the
+      ! character's code, as a comparison of strings would call len_trim)
+      if (iachar(self%memory(1:1)) /= iachar(" ")) self%memory = ""
    end subroutine clear_rejection
 
    !> When a default method rejected an evaluation (fatally) because its work array
