@@ -407,13 +407,14 @@ contains
 
    !> The complex solver's (s I - J)^(-1) b against a direct solve (Gauss-Jordan
    !> elimination with partial pivoting on the complex matrix, written here) for a
-   !> small and a large dense J (LAPACK) and a band J in dense and in band storage; a
-   !> dense J in a band solver is a reported mismatch.
+   !> small and a large dense J (LAPACK) and a band J in dense and in band storage, also
+   !> in a solver of wider bands reassembled over other factors; a dense J in a band
+   !> solver is a reported mismatch.
    subroutine test_complex_solver(error)
       type(error_type), allocatable, intent(out) :: error
       complex(dp), parameter :: shift = (2.5_dp, 1.7_dp)
       integer, parameter :: orders(2) = [5, 40]
-      class(matrix_type), allocatable :: jac, band_jac
+      class(matrix_type), allocatable :: jac, band_jac, wide_jac
       type(complex_solver_type) :: solver, band_solver
       type(status_type) :: stat
       complex(dp), allocatable :: x(:), b(:), direct(:), y(:)
@@ -489,20 +490,42 @@ contains
       call band_solver%factor(stat)
       call check(error, any(band_solver%pivots /= [(i, i=1, n)]), "the first matrix needs row interchanges")
       if (allocated(error)) return
-      call band_solver%assemble(shift, band_jac, stat)
-      call band_solver%factor(stat)
-      x = b
-      call band_solver%solve(x, stat)
-      call check(error, stat%code, status_ok, stat_message(stat))
+      call check_reassembled("band J in wider bands, assembled again")
       if (allocated(error)) return
-      call check(error, maxval(abs(x - direct)) <= 1.0e-13_dp*maxval(abs(direct)), &
-         "band J in wider bands, assembled again: differs from the direct solve")
+      ! and over the factors of a matrix with entries in all of the solver's bands: the
+      ! rows below J's band (L's multipliers now) must be zero again too
+      call new_matrix(wide_jac, n, band_structure(3, 2), stat)
+      select type (wide_jac)
+      type is (band_matrix_type)
+         do j = 1, n
+            do i = max(1, j - 2), min(n, j + 3)
+               wide_jac%ab(wide_jac%diagonal + i - j, j) = sin(real(2*i + 3*j, dp)) + merge(4.0_dp, 0.0_dp, i == j)
+            end do
+         end do
+      end select
+      call band_solver%assemble(shift, wide_jac, stat)
+      call band_solver%factor(stat)
+      call check_reassembled("band J assembled over a wider J's factors")
       if (allocated(error)) return
 
       call new_matrix(jac, n, dense_structure(), stat)
       call band_solver%assemble(shift, jac, stat)
       call check(error, stat%code, status_invalid_argument, "a dense J in a band solver must be reported")
    contains
+      !> band_solver, factored over another matrix, assembled again from the band J:
+      !> its solution of b must be the direct solve's.
+      subroutine check_reassembled(what)
+         character(len=*), intent(in) :: what
+         call band_solver%assemble(shift, band_jac, stat)
+         call band_solver%factor(stat)
+         x = b
+         call band_solver%solve(x, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         call check(error, maxval(abs(x - direct)) <= 1.0e-13_dp*maxval(abs(direct)), what// &
+            ": differs from the direct solve")
+      end subroutine check_reassembled
+
       !> (shift I - J)^(-1) b by Gauss-Jordan elimination with partial pivoting.
       function direct_solve(jac, b) result(x)
          class(matrix_type), intent(in) :: jac

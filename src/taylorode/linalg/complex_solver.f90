@@ -126,23 +126,38 @@ contains
       !> The real mass matrix M (default: the identity)
       class(matrix_type), intent(in), optional :: mass
       integer :: j
+      complex(dp) :: diagonal_shift
 
       self%factored = .false.
-      call add_real(jac, (-1.0_dp, 0.0_dp), .true.)
-      if (stat%code /= status_ok) return
-      if (present(mass)) then
-         call add_real(mass, shift, .false.)
-      else if (self%storage == storage_dense) then
-         do j = 1, self%n
-            self%a(j, j) = self%a(j, j) + shift
-         end do
+      ! with a mass matrix the shift comes with it, below
+      diagonal_shift = (0.0_dp, 0.0_dp)
+      if (.not. present(mass)) diagonal_shift = shift
+      if (self%storage == storage_band) then
+         select type (jac)
+         type is (band_matrix_type)
+            if (jac%n /= self%n .or. jac%kl > self%kl .or. jac%ku > self%ku) then
+               call mismatch()
+               return
+            end if
+            call shifted_negative_band(self%n, self%kl, self%ku, self%a, diagonal_shift, jac%kl, jac%ku, &
+               size(jac%ab, 1), jac%diagonal, jac%ab)
+         class default
+            call mismatch()
+            return
+         end select
       else
-         do j = 1, self%n
-            self%a(self%kl + self%ku + 1, j) = self%a(self%kl + self%ku + 1, j) + shift
-         end do
+         call add_real(jac, (-1.0_dp, 0.0_dp), .true.)
+         if (stat%code /= status_ok) return
+         if (.not. present(mass)) then
+            do j = 1, self%n
+               self%a(j, j) = self%a(j, j) + shift
+            end do
+         end if
       end if
+      if (present(mass)) call add_real(mass, shift, .false.)
    contains
-      !> a = a + factor B (a = factor B first when `first`)
+      !> a = a + factor B (a = factor B first when `first`; a band B only after the
+      !> Jacobian's pass, shifted_negative_band)
       subroutine add_real(b, factor, first)
          class(matrix_type), intent(in) :: b
          complex(dp), intent(in) :: factor
@@ -187,23 +202,9 @@ contains
                diagonal = self%kl + self%ku + 1
                shift_b = b%diagonal
                do j = 1, self%n
-                  if (first) then
-                     ! the band's rows of column j set in one pass (the rows kept for the
-                     ! fill-in are left alone: the factorizations set them)
-                     do i = max(1, j - self%ku), j - b%ku - 1
-                        self%a(diagonal + i - j, j) = (0.0_dp, 0.0_dp)
-                     end do
-                     do i = max(1, j - b%ku), min(self%n, j + b%kl)
-                        self%a(diagonal + i - j, j) = factor*b%ab(shift_b + i - j, j)
-                     end do
-                     do i = j + b%kl + 1, min(self%n, j + self%kl)
-                        self%a(diagonal + i - j, j) = (0.0_dp, 0.0_dp)
-                     end do
-                  else
-                     do i = max(1, j - b%ku), min(self%n, j + b%kl)
-                        self%a(diagonal + i - j, j) = self%a(diagonal + i - j, j) + factor*b%ab(shift_b + i - j, j)
-                     end do
-                  end if
+                  do i = max(1, j - b%ku), min(self%n, j + b%kl)
+                     self%a(diagonal + i - j, j) = self%a(diagonal + i - j, j) + factor*b%ab(shift_b + i - j, j)
+                  end do
                end do
             end if
          class default
@@ -216,6 +217,51 @@ contains
             "complex solver: the Jacobian's order or storage does not fit the solver")
       end subroutine mismatch
    end subroutine assemble
+
+   !> a = shift I - B over a's band (LAPACK band storage of order n, bandwidths kl, ku;
+   !> the kl rows kept for the fill-in are left alone), B a real band matrix within it
+   !> (kl_b, ku_b; its diagonal in row diagonal_b of b): zeros outside B's band, in one
+   !> pass over explicit-shape arrays (the few entries of a column cost as much as the
+   !> loops' bounds otherwise).
+   pure subroutine shifted_negative_band(n, kl, ku, a, shift, kl_b, ku_b, ldb, diagonal_b, b)
+      !> Order
+      integer, intent(in) :: n
+      !> a's bandwidths
+      integer, intent(in) :: kl, ku
+      !> a's band storage, (2 kl + ku + 1) x n
+      complex(dp), intent(inout) :: a(2*kl + ku + 1, n)
+      !> The shift s
+      complex(dp), intent(in) :: shift
+      !> B's bandwidths (at most a's), leading dimension and row of the diagonal
+      integer, intent(in) :: kl_b, ku_b, ldb, diagonal_b
+      !> B's band storage
+      real(dp), intent(in) :: b(ldb, n)
+      integer :: i, j, diagonal, first, last, first_b, last_b, row_shift
+      diagonal = kl + ku + 1
+      row_shift = diagonal_b - diagonal
+      do j = 1, n
+         first = diagonal - min(ku, j - 1)
+         last = diagonal + min(kl, n - j)
+         first_b = max(first, diagonal - ku_b)
+         last_b = min(last, diagonal + kl_b)
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = first, first_b - 1
+            a(i, j) = (0.0_dp, 0.0_dp)
+         end do
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = first_b, last_b
+            a(i, j) = cmplx(-b(i + row_shift, j), 0.0_dp, dp)
+         end do
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = last_b + 1, last
+            a(i, j) = (0.0_dp, 0.0_dp)
+         end do
+         a(diagonal, j) = a(diagonal, j) + shift
+      end do
+   end subroutine shifted_negative_band
 
    !> Factor the assembled matrix in place.
    subroutine factor(self, stat)

@@ -460,25 +460,58 @@ contains
       real(dp), intent(in) :: alpha
       class(matrix_type), intent(in) :: b
       type(status_type), intent(inout) :: stat
-      integer :: j, first, last, first_b, last_b
       select type (b)
       type is (band_matrix_type)
          if (b%n == self%n .and. b%kl <= self%kl .and. b%ku <= self%ku) then
-            do j = 1, self%n
-               first = self%diagonal - min(self%ku, j - 1)
-               last = self%diagonal + min(self%kl, self%n - j)
-               first_b = max(first, self%diagonal - b%ku)
-               last_b = min(last, self%diagonal + b%kl)
-               self%ab(first:first_b - 1, j) = 0.0_dp
-               self%ab(first_b:last_b, j) = alpha*b%ab(first_b - self%diagonal + b%diagonal:last_b - &
-                  self%diagonal + b%diagonal, j)
-               self%ab(last_b + 1:last, j) = 0.0_dp
-            end do
+            call scaled_band_into_band(self%n, self%kl, self%ku, size(self%ab, 1), self%diagonal, self%ab, alpha, &
+               b%kl, b%ku, size(b%ab, 1), b%diagonal, b%ab)
             return
          end if
       end select
       call set_scaled(self, alpha, b, stat)
    end subroutine band_set_scaled
+
+   !> a = alpha b over a's band (kl, ku; diagonal in row `diagonal` of a), b a band
+   !> matrix within it (kl_b, ku_b; diagonal in row diagonal_b): zeros outside b's band,
+   !> a's other rows (kept for the LU fill-in) left alone. Explicit-shape arrays: the
+   !> few entries of a column cost as much as the loops' bounds otherwise.
+   pure subroutine scaled_band_into_band(n, kl, ku, lda, diagonal, a, alpha, kl_b, ku_b, ldb, diagonal_b, b)
+      !> Order
+      integer, intent(in) :: n
+      !> a's bandwidths, leading dimension and row of the diagonal
+      integer, intent(in) :: kl, ku, lda, diagonal
+      !> a's band storage
+      real(dp), intent(inout) :: a(lda, n)
+      !> The factor
+      real(dp), intent(in) :: alpha
+      !> b's bandwidths (at most a's), leading dimension and row of the diagonal
+      integer, intent(in) :: kl_b, ku_b, ldb, diagonal_b
+      !> b's band storage
+      real(dp), intent(in) :: b(ldb, n)
+      integer :: i, j, first, last, first_b, last_b, shift
+      shift = diagonal_b - diagonal
+      do j = 1, n
+         first = diagonal - min(ku, j - 1)
+         last = diagonal + min(kl, n - j)
+         first_b = max(first, diagonal - ku_b)
+         last_b = min(last, diagonal + kl_b)
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = first, first_b - 1
+            a(i, j) = 0.0_dp
+         end do
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = first_b, last_b
+            a(i, j) = alpha*b(i + shift, j)
+         end do
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = last_b + 1, last
+            a(i, j) = 0.0_dp
+         end do
+      end do
+   end subroutine scaled_band_into_band
 
    subroutine band_add_identity(self, alpha)
       class(band_matrix_type), intent(inout) :: self
