@@ -25,6 +25,7 @@ contains
          new_unittest("written-out-lu-equals-lapack", test_written_out_lu), &
          new_unittest("written-out-complex-band-lu-equals-lapack", test_written_out_complex_band_lu), &
          new_unittest("band-set-scaled-sets-the-band", test_band_set_scaled), &
+         new_unittest("band-product-both-orders", test_band_product), &
          new_unittest("pair-solve-equals-single-solves", test_pair_solve) &
          ]
    end subroutine collect_base
@@ -276,6 +277,48 @@ contains
          end do
       end do
    end subroutine test_band_set_scaled
+
+   !> y + alpha B x for a band matrix (bands 3 and 2) against the sum written out here
+   !> (each y_i summed over j in increasing order, alpha x_j times B(i, j)), to 1e-14:
+   !> on 7 unknowns (the product diagonal by diagonal) and on 30,000, whose band no
+   !> longer fits in the cache (column by column).
+   subroutine test_band_product(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: orders(2) = [7, 30000], kl = 3, ku = 2
+      real(dp), parameter :: alpha = -1.25_dp
+      class(matrix_type), allocatable :: b
+      real(dp), allocatable :: x(:), y(:), expected(:)
+      type(status_type) :: stat
+      integer :: k, n, i, j
+      integer(i8) :: state
+
+      state = 11_i8
+      do k = 1, size(orders)
+         n = orders(k)
+         call new_matrix(b, n, matrix_structure_type(storage_band, kl, ku), stat)
+         x = [(next_value(state), i=1, n)]
+         y = [(next_value(state), i=1, n)]
+         expected = y
+         select type (b)
+         type is (band_matrix_type)
+            do j = 1, n
+               do i = max(1, j - ku), min(n, j + kl)
+                  b%ab(b%diagonal + i - j, j) = next_value(state)
+               end do
+            end do
+            do i = 1, n
+               do j = max(1, i - kl), min(n, i + ku)
+                  expected(i) = expected(i) + (alpha*x(j))*b%ab(b%diagonal + i - j, j)
+               end do
+            end do
+         end select
+         call b%multiply_add(alpha, x, y)
+         ! (equal but for the rounding a compiler may change by contracting a * b + c)
+         call check(error, maxval(abs(y - expected)) <= 1.0e-14_dp*maxval(abs(expected)), "n = "// &
+            format_integer(n)//": largest difference "//format_real(maxval(abs(y - expected))))
+         if (allocated(error)) return
+      end do
+   end subroutine test_band_product
 
    !> small_lu_solve_pair (a real and a complex system in one pass, Radau IIA's two)
    !> gives the real solution of small_lu_solve with the reciprocal pivots bit for bit,
