@@ -609,6 +609,123 @@ contains
       end do
    end subroutine shifted_matrices
 
+   !> c = a + b (explicit-shape, as newton_right_hand_sides).
+   pure subroutine add_vectors(n, a, b, c)
+      !> Length
+      integer, intent(in) :: n
+      !> The terms
+      real(dp), intent(in) :: a(n), b(n)
+      !> The sum
+      real(dp), intent(out) :: c(n)
+      integer :: i
+      !GCC$ unroll 1
+      do i = 1, n
+         c(i) = a(i) + b(i)
+      end do
+   end subroutine add_vectors
+
+   !> Newton's start: Z at the new stages from the last step's collocation polynomial
+   !> (the new step h is ratio times the step it was made on), and W = T^(-1) Z
+   !> (explicit-shape, as newton_right_hand_sides).
+   pure subroutine extrapolated_stages(n, ratio, polynomial, z, w)
+      !> Unknowns
+      integer, intent(in) :: n
+      !> h over the step of the polynomial
+      real(dp), intent(in) :: ratio
+      !> The polynomial's coefficient columns
+      real(dp), intent(in) :: polynomial(n, 3)
+      !> The stage increments and the transformed ones
+      real(dp), intent(out) :: z(n, 3), w(n, 3)
+      real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3
+      integer :: i
+      c3q = ratio
+      c1q = c1*c3q
+      c2q = c2*c3q
+      !GCC$ unroll 1
+      do i = 1, n
+         ak1 = polynomial(i, 1)
+         ak2 = polynomial(i, 2)
+         ak3 = polynomial(i, 3)
+         z1 = c1q*(ak1 + (c1q - c2m1)*(ak2 + (c1q - c1m1)*ak3))
+         z2 = c2q*(ak1 + (c2q - c2m1)*(ak2 + (c2q - c1m1)*ak3))
+         z3 = c3q*(ak1 + (c3q - c2m1)*(ak2 + (c3q - c1m1)*ak3))
+         z(i, 1) = z1
+         z(i, 2) = z2
+         z(i, 3) = z3
+         w(i, 1) = ti11*z1 + ti12*z2 + ti13*z3
+         w(i, 2) = ti21*z1 + ti22*z2 + ti23*z3
+         w(i, 3) = ti31*z1 + ti32*z2 + ti33*z3
+      end do
+   end subroutine extrapolated_stages
+
+   !> The transformed Newton right-hand sides in place of the stage values F:
+   !> T^(-1) F minus the block diag(gamma/h, [[alpha/h, -beta/h], [beta/h, alpha/h]])
+   !> times W (or M W, wm), and the sum of |F| (finite unless some F is NaN or Inf, or
+   !> all are so large that it overflows: one test instead of one per value).
+   !> Explicit-shape, so that the compiler knows the arrays apart (through the pointers
+   !> onto the scheme's arrays it had to assume they might overlap).
+   pure subroutine newton_right_hand_sides(n, fac1, alphn, betan, wm, r, magnitude)
+      !> Unknowns
+      integer, intent(in) :: n
+      !> gamma/h, alpha/h, beta/h
+      real(dp), intent(in) :: fac1, alphn, betan
+      !> W, or M W with a mass matrix
+      real(dp), intent(in) :: wm(n, 3)
+      !> F at the three stages on entry, the right-hand sides on exit
+      real(dp), intent(inout) :: r(n, 3)
+      !> Sum of |F|
+      real(dp), intent(out) :: magnitude
+      real(dp) :: f1, f2, f3
+      integer :: i
+      magnitude = 0.0_dp
+      !GCC$ unroll 1
+      do i = 1, n
+         f1 = r(i, 1)
+         f2 = r(i, 2)
+         f3 = r(i, 3)
+         magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
+         r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*wm(i, 1)
+         r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*wm(i, 2) + betan*wm(i, 3)
+         r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*wm(i, 3) - betan*wm(i, 2)
+      end do
+   end subroutine newton_right_hand_sides
+
+   !> The Newton update: W = W + the increments (in z on entry), z = T W on exit, and
+   !> the sum of the increments' squares in the tolerances (explicit-shape, as
+   !> newton_right_hand_sides).
+   pure subroutine newton_update(n, tolerance, w, z, sum_squares)
+      !> Unknowns
+      integer, intent(in) :: n
+      !> Absolute accuracy asked of each component of the stage increments
+      real(dp), intent(in) :: tolerance(n)
+      !> The transformed stage values W
+      real(dp), intent(inout) :: w(n, 3)
+      !> The increments of W on entry, the stage increments Z = T W on exit
+      real(dp), intent(inout) :: z(n, 3)
+      !> Sum over the components and stages of (increment / tolerance)^2
+      real(dp), intent(out) :: sum_squares
+      real(dp) :: inverse, z1, z2, z3, f1, f2, f3
+      integer :: i
+      sum_squares = 0.0_dp
+      !GCC$ unroll 1
+      do i = 1, n
+         inverse = 1.0_dp/tolerance(i)
+         z1 = z(i, 1)
+         z2 = z(i, 2)
+         z3 = z(i, 3)
+         sum_squares = sum_squares + (z1*inverse)**2 + (z2*inverse)**2 + (z3*inverse)**2
+         f1 = w(i, 1) + z1
+         f2 = w(i, 2) + z2
+         f3 = w(i, 3) + z3
+         w(i, 1) = f1
+         w(i, 2) = f2
+         w(i, 3) = f3
+         z(i, 1) = t11*f1 + t12*f2 + t13*f3
+         z(i, 2) = t21*f1 + t22*f2 + t23*f3
+         z(i, 3) = t31*f1 + f2
+      end do
+   end subroutine newton_update
+
    !> x = ((gamma/h) I - J)^(-1) x with the kept factors.
    subroutine solve_real(self, x, stat)
       type(radau5_type), intent(inout) :: self
@@ -637,8 +754,8 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: n, i, s, newt, limit
-      real(dp) :: c1q, c2q, c3q, ak1, ak2, ak3, z1, z2, z3, f1, f2, f3, fac1, alphn, betan
-      real(dp) :: dyno, dynold, thq, thqold, dyth, inverse, magnitude, stage_time(3)
+      real(dp) :: fac1, alphn, betan
+      real(dp) :: dyno, dynold, thq, thqold, dyth, magnitude, stage_time(3)
       real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), wm(:, :)
 
       n = self%n
@@ -653,24 +770,7 @@ contains
       wm => self%w
       if (self%with_mass) wm => self%mw
       if (self%have_polynomial .and. .not. self%zero_start) then
-         c3q = h/self%h_polynomial
-         c1q = c1*c3q
-         c2q = c2*c3q
-         !GCC$ unroll 1
-         do i = 1, n
-            ak1 = self%polynomial(i, 1)
-            ak2 = self%polynomial(i, 2)
-            ak3 = self%polynomial(i, 3)
-            z1 = c1q*(ak1 + (c1q - c2m1)*(ak2 + (c1q - c1m1)*ak3))
-            z2 = c2q*(ak1 + (c2q - c2m1)*(ak2 + (c2q - c1m1)*ak3))
-            z3 = c3q*(ak1 + (c3q - c2m1)*(ak2 + (c3q - c1m1)*ak3))
-            z(i, 1) = z1
-            z(i, 2) = z2
-            z(i, 3) = z3
-            w(i, 1) = ti11*z1 + ti12*z2 + ti13*z3
-            w(i, 2) = ti21*z1 + ti22*z2 + ti23*z3
-            w(i, 3) = ti31*z1 + ti32*z2 + ti33*z3
-         end do
+         call extrapolated_stages(n, h/self%h_polynomial, self%polynomial, z, w)
       else
          !GCC$ unroll 1
          do i = 1, n
@@ -701,10 +801,7 @@ contains
          ! F = f + g at the three stages (the problem's rhs, called directly), each into
          ! its stage's column of z once the stage state is formed
          do s = 1, 3
-            !GCC$ unroll 1
-            do i = 1, n
-               stage(i) = u0(i) + z(i, s)
-            end do
+            call add_vectors(n, u0, z(:, s), stage)
             call problem%rhs_values(n, stage_time(s), stage, r(:, s))
          end do
          self%counters%f_evaluations = self%counters%f_evaluations + 3
@@ -719,19 +816,7 @@ contains
                call self%mass%multiply_add(1.0_dp, w(:, s), self%mw(:, s))
             end do
          end if
-         ! the sum of |F| is finite unless some F is NaN or Inf (or all are so large that
-         ! the sum overflows): one test instead of one per value, a quarter of the cost
-         magnitude = 0.0_dp
-         !GCC$ unroll 1
-         do i = 1, n
-            f1 = r(i, 1)
-            f2 = r(i, 2)
-            f3 = r(i, 3)
-            magnitude = magnitude + (abs(f1) + abs(f2) + abs(f3))
-            r(i, 1) = ti11*f1 + ti12*f2 + ti13*f3 - fac1*wm(i, 1)
-            r(i, 2) = ti21*f1 + ti22*f2 + ti23*f3 - alphn*wm(i, 2) + betan*wm(i, 3)
-            r(i, 3) = ti31*f1 + ti32*f2 + ti33*f3 - alphn*wm(i, 3) - betan*wm(i, 2)
-         end do
+         call newton_right_hand_sides(n, fac1, alphn, betan, wm, r, magnitude)
          if (.not. ieee_is_finite(magnitude)) then
             call fail(status_nonfinite)
             return
@@ -750,24 +835,7 @@ contains
          self%counters%linear_solves = self%counters%linear_solves + 1
 
          ! the size of the increments, and the new iterate (unused should the tests below fail)
-         dyno = 0.0_dp
-         !GCC$ unroll 1
-         do i = 1, n
-            inverse = 1.0_dp/tolerance(i)
-            z1 = r(i, 1)
-            z2 = r(i, 2)
-            z3 = r(i, 3)
-            dyno = dyno + (z1*inverse)**2 + (z2*inverse)**2 + (z3*inverse)**2
-            f1 = w(i, 1) + z1
-            f2 = w(i, 2) + z2
-            f3 = w(i, 3) + z3
-            w(i, 1) = f1
-            w(i, 2) = f2
-            w(i, 3) = f3
-            z(i, 1) = t11*f1 + t12*f2 + t13*f3
-            z(i, 2) = t21*f1 + t22*f2 + t23*f3
-            z(i, 3) = t31*f1 + f2
-         end do
+         call newton_update(n, tolerance, w, z, dyno)
          dyno = sqrt(dyno/real(3*n, dp))
          if (.not. (dyno <= huge(1.0_dp))) then
             call fail(status_newton_diverged)
