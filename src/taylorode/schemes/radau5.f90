@@ -980,10 +980,7 @@ contains
       if (.not. (self%have_stages .and. t == self%t_start .and. h == self%h_stages)) return
       if (self%have_polynomial .and. .not. self%retry) return
       refined = .true.
-      !GCC$ unroll 1
-      do i = 1, self%n
-         self%stage(i) = self%u_start(i) + delta(i)
-      end do
+      call add_vectors(self%n, self%u_start, delta, self%stage)
       ! the stage part of the first estimate is still in w(:, 2)
       associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
          call problem%rhs(t, self%stage, estimate)
