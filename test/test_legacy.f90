@@ -83,6 +83,7 @@ contains
          new_unittest("settings-checked-as-radau5", test_settings_checked), &
          new_unittest("settings-in-range-accepted", test_settings_accepted), &
          new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
+         new_unittest("difference-jacobian-from-fcn", test_difference_jacobian), &
          new_unittest("newton-iterations-honoured", test_newton_iterations), &
          new_unittest("step-budget-statistics", test_budget), &
          new_unittest("evaluation-flag", test_evaluation_flag), &
@@ -238,6 +239,40 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_radau5_as_radau5
+
+   !> TAYLORODE('radau5', ...) without JAC (IJAC = 0) differences FCN as RADAU5 does: N
+   !> calls per Jacobian (F at the step's start is the one the step has), none beside
+   !> NFCN + N NJAC in all; the answer that of the run with the analytic Jacobian to 1e-9
+   !> relative (RTOL = ATOL = 1e-6: the differences' error, ~1e-8 relative, scales only
+   !> Newton's corrections, whose iterates converge to the same collocation solution; the
+   !> two runs end 7e-14 apart). Fails when a column is wrong (the iterates then stop
+   !> elsewhere) or when F is evaluated once more per Jacobian.
+   subroutine test_difference_jacobian(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(2), y_analytic(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid, calls, evaluations, jacobians
+      character(len=:), allocatable :: message
+      call fresh(x, y_analytic, h, rtol, atol, work, iwork)
+      call solve_vdp("radau5", x, y_analytic, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
+      call check(error, idid, 1, "with JAC: "//message)
+      if (allocated(error)) return
+      call fresh(x, y, h, rtol, atol, work, iwork)
+      rpar = 0.0_dp
+      call legacy_solve("radau5", 2, counted_vdp, counted_vdp, .false., x, y, vdp_end, h, rtol, atol, 0, &
+         vdp_jacobian, 0, vdp_jacobian, 0, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, size(work), iwork, &
+         size(iwork), rpar, ipar, idid, message)
+      call check(error, idid, 1, "without JAC: "//message)
+      if (allocated(error)) return
+      calls = nint(rpar(1))
+      evaluations = iwork(14)
+      jacobians = iwork(15)
+      call check(error, jacobians > 10 .and. calls == evaluations + 2*jacobians, "FCN called "// &
+         format_integer(calls)//" times for NFCN = "//format_integer(evaluations)//" and NJAC = "// &
+         format_integer(jacobians)//" (N = 2 calls per Jacobian expected)")
+      if (allocated(error)) return
+      call check(error, maxval(abs(y - y_analytic)) <= 1.0e-9_dp*maxval(abs(y_analytic)), &
+         "the differenced run ends "//format_real(maxval(abs(y - y_analytic)))//" from the analytic one")
+   end subroutine test_difference_jacobian
 
    !> IWORK(3) reaches radau5 (RADAU5's NIT): with 2 Newton iterations per attempt no
    !> attempt makes more (IWORK(20) <= 2 IWORK(16)), with the default 7 some do (before:
@@ -525,6 +560,15 @@ contains
       f(1) = y(2)
       f(2) = mu*((1.0_dp - y(1)**2)*y(2) - y(1))
    end subroutine vdp
+
+   !> vdp, counting its calls in rpar(1)
+   subroutine counted_vdp(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      call vdp(n, x, y, f, rpar, ipar)
+      rpar(1) = rpar(1) + 1.0_dp
+   end subroutine counted_vdp
 
    subroutine vdp_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
       integer :: n, ldfy

@@ -885,7 +885,9 @@ contains
       x = t
       ! a loop through the component, which gcc cannot prove apart from u: it keeps the
       ! loop, where a copy between arrays it can tell apart becomes a call of memcpy,
-      ! slower on a few unknowns (this is radau5's stage evaluation)
+      ! slower on a few unknowns (this is radau5's stage evaluation); not unrolled, as the
+      ! unrolled loop's entry costs more than two or three copies
+      !GCC$ unroll 1
       do i = 1, n
          self%x_state(i) = u(i)
       end do
@@ -986,13 +988,14 @@ contains
       end if
    end subroutine legacy_jac_band
 
-   !> Which part J is differenced from when neither JAC(G) nor JACF is given: FCNF + FCNG,
-   !> or FCN alone (TAYLORODE); 0 when a Jacobian routine is given.
+   !> Which part J is differenced from: F (FCNF + FCNG, or FCN alone in TAYLORODE, called
+   !> through legacy_rhs_values) when neither JAC(G) nor JACF is given; 0 when a Jacobian
+   !> routine is given.
    pure integer function differenced_part(self)
       class(legacy_problem_type), intent(in) :: self
       differenced_part = 0
       if (self%has_jac_f .or. self%has_jac_g) return
-      differenced_part = merge(difference_rhs, difference_g, self%has_f)
+      differenced_part = difference_rhs
    end function differenced_part
 
    !> Dense J given F(t, u): without Jacobian routines, differences from that F (N

@@ -56,6 +56,8 @@ module taylorode_problem_ode
    !> Work arrays of the finite-difference Jacobians, kept between calls
    type :: difference_workspace_type
       real(dp), allocatable :: base(:), shifted(:), probe(:), increment(:)
+      !> The size all four have (-1: not known to be the same for all)
+      integer :: ready_size = -1
    end type difference_workspace_type
 
    !> Abstract problem with a non-stiff part f, a stiff part g and their Jacobians
@@ -715,11 +717,15 @@ contains
       real(dp), intent(out) :: value(..)
       character(len=*), parameter :: what = "the work arrays of the difference Jacobians"
       type(status_type) :: stat
+      workspace_ready = self%differences%ready_size == n
+      if (workspace_ready) return
+      self%differences%ready_size = -1
       call sized(self%differences%base, n, what, stat)
       call sized(self%differences%shifted, n, what, stat)
       call sized(self%differences%probe, n, what, stat)
       call sized(self%differences%increment, n, what, stat)
       workspace_ready = work_ready(self, stat, value)
+      if (workspace_ready) self%differences%ready_size = n
    end function workspace_ready
 
    !> Grouped forward differences of f, g or F = f + g (`part`) into band storage: the
@@ -815,27 +821,49 @@ contains
       real(dp), intent(out) :: jac(:, :)
       !> The part at (t, u) when the caller has it (one evaluation fewer)
       real(dp), intent(in), optional :: value(:)
-      real(dp) :: increment
-      integer :: j
-      if (.not. workspace_ready(self, size(u), jac)) return
-      associate (base => self%differences%base, shifted => self%differences%shifted, &
-         probe => self%differences%probe)
-         if (present(value)) then
-            base = value
-         else
-            call evaluate_part(self, part, t, u, base)
-         end if
-         probe = u
-         do j = 1, size(u)
-            increment = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
-            probe(j) = u(j) + increment
-            increment = probe(j) - u(j)
-            call evaluate_part(self, part, t, probe, shifted)
-            jac(:, j) = (shifted - base)/increment
-            probe(j) = u(j)
-         end do
-      end associate
+      integer :: n
+      n = size(u)
+      if (.not. workspace_ready(self, n, jac)) return
+      call difference_columns(self, part, n, t, u, jac, self%differences%base, self%differences%shifted, &
+         self%differences%probe, value)
    end subroutine dense_differences
+
+   !> dense_differences' columns over explicit-shape arrays (on a few unknowns the copies
+   !> and columns through array descriptors cost more than the evaluations).
+   subroutine difference_columns(self, part, n, t, u, jac, base, shifted, probe, value)
+      class(ode_problem), intent(inout) :: self
+      integer, intent(in) :: part, n
+      real(dp), intent(in) :: t, u(n)
+      real(dp), intent(out) :: jac(n, n)
+      !> The work arrays: the part at u, at the probe, and the probe
+      real(dp), intent(out) :: base(n), shifted(n), probe(n)
+      real(dp), intent(in), optional :: value(n)
+      real(dp) :: increment
+      integer :: i, j
+      if (present(value)) then
+         !GCC$ unroll 1
+         do i = 1, n
+            base(i) = value(i)
+         end do
+      else
+         call evaluate_part(self, part, t, u, base)
+      end if
+      !GCC$ unroll 1
+      do i = 1, n
+         probe(i) = u(i)
+      end do
+      do j = 1, n
+         increment = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
+         probe(j) = u(j) + increment
+         increment = probe(j) - u(j)
+         call evaluate_part(self, part, t, probe, shifted)
+         !GCC$ unroll 1
+         do i = 1, n
+            jac(i, j) = (shifted(i) - base(i))/increment
+         end do
+         probe(j) = u(j)
+      end do
+   end subroutine difference_columns
 
    !> (part(t, u + e v) - part(t, u))/e for f or g (`part`), with the increment
    !> e = sqrt(eps) max(|u|_max, 1)/|v|_max taken from the whole state (through
@@ -873,7 +901,7 @@ contains
       end associate
    end subroutine directional_difference
 
-   !> f(t, state), g(t, state) or F(t, state) = `rhs` as `part` says.
+   !> f(t, state), g(t, state) or F(t, state) = `rhs_values` as `part` says.
    subroutine evaluate_part(problem, part, t, state, value)
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: part
@@ -886,7 +914,8 @@ contains
       case (difference_g)
          call problem%g(t, state, value)
       case default
-         call problem%rhs(t, state, value)
+         ! explicit-shape: the legacy entry calls FCN from here without array descriptors
+         call problem%rhs_values(size(state), t, state, value)
       end select
    end subroutine evaluate_part
 
