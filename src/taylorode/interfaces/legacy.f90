@@ -789,10 +789,14 @@ contains
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
       real(dp) :: x
-      integer :: n
+      integer :: n, i
       x = t
       n = size(u)
-      self%x_state = u
+      ! (a loop, as in legacy_rhs_values: the assignment checks x_state's allocation)
+      !GCC$ unroll 1
+      do i = 1, n
+         self%x_state(i) = u(i)
+      end do
       if (self%flag > 0) self%ipar(self%flag) = 0
       call fcn(n, x, self%x_state, dudt, self%rpar, self%ipar)
       if (self%flag > 0) then
@@ -811,11 +815,14 @@ contains
       ! to the user's explicit-shape DFY it is copied only when it is not contiguous
       real(dp), intent(out) :: jac(:, :)
       real(dp) :: x
-      integer :: n, ldfy
+      integer :: n, ldfy, i
       x = t
       n = size(u)
       ldfy = size(jac, 1)
-      self%x_state = u
+      !GCC$ unroll 1
+      do i = 1, n
+         self%x_state(i) = u(i)
+      end do
       if (self%flag > 0) self%ipar(self%flag) = 0
       call jac_user(n, x, self%x_state, jac, ldfy, self%rpar, self%ipar)
       if (self%flag > 0) then
