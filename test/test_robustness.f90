@@ -835,8 +835,9 @@ contains
    end subroutine check_bad_jacobian
 
    !> (11) The heap allocations of an integration do not grow with its number of steps:
-   !> every scheme, finite-difference Jacobians (dense and grouped band) and failed
-   !> attempts included. Compared: [0, 3] against [0, 30] (far more steps).
+   !> every scheme, finite-difference Jacobians (dense and grouped band, also of a state
+   !> that is not contiguous, which the differences must not copy) and failed attempts
+   !> included. Compared: [0, 3] against [0, 30] (far more steps).
    subroutine test_no_allocation_per_step(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(7) = [character(len=12) :: "ex-t-2", "si-t-1", "si-t-2", &
@@ -859,62 +860,94 @@ contains
       end do
       call compare_runs(differences, "i-t-2", options, 3.0_dp, 30.0_dp, "dense differences")
       if (allocated(error)) return
+      ! a state that is every other entry of an array: the differences must not copy it
+      call compare_runs(differences, "radau5", options, 3.0_dp, 30.0_dp, "dense differences from F, strided state", &
+         strided=.true.)
+      if (allocated(error)) return
+      call compare_runs(differences, "i-t-2", options, 3.0_dp, 30.0_dp, "dense differences, strided state", &
+         strided=.true.)
+      if (allocated(error)) return
       band%model = new_brusselator(20)
       call compare_runs(band, "si-t-2", options, 0.02_dp, 2.0_dp, "grouped band differences")
+      if (allocated(error)) return
+      call compare_runs(band, "radau5", options, 0.02_dp, 2.0_dp, "grouped band differences from F, strided state", &
+         strided=.true.)
+      if (allocated(error)) return
+      call compare_runs(band, "i-t-2", options, 0.02_dp, 2.0_dp, "grouped band differences, strided state", &
+         strided=.true.)
       if (allocated(error)) return
       options%max_newton_iterations = 2
       call compare_runs(problem, "i-t-2", options, 3.0_dp, 30.0_dp, "failed attempts", failures=.true.)
       if (allocated(error)) return
-      call compare_legacy_runs()
+      call compare_legacy_runs(1, "TAYLORODE")
+      if (allocated(error)) return
+      call compare_legacy_runs(0, "TAYLORODE without JAC")
    contains
-      !> TAYLORODE('radau5') with the user's JAC: a call allocates what its setup needs,
-      !> the same for 10 times the steps (the first call is the warm-up).
-      subroutine compare_legacy_runs()
+      !> TAYLORODE('radau5') with the user's JAC (ijac = 1) or differences of FCN (0): a
+      !> call allocates what its setup needs, the same for 10 times the steps (the first
+      !> call is the warm-up).
+      subroutine compare_legacy_runs(ijac, label)
+         integer, intent(in) :: ijac
+         character(len=*), intent(in) :: label
          integer(c_long_long) :: short_run, long_run
          integer :: iwork(20), idid, short_steps
-         call radau5_van_der_pol(3.0_dp, legacy_vdp_jacobian, 1, 2, 0, iwork, idid, short_run)
-         call check(error, idid, 1, "TAYLORODE to 3 (warm-up)")
+         call radau5_van_der_pol(3.0_dp, legacy_vdp_jacobian, ijac, 2, 0, iwork, idid, short_run)
+         call check(error, idid, 1, label//" to 3 (warm-up)")
          if (allocated(error)) return
-         call radau5_van_der_pol(3.0_dp, legacy_vdp_jacobian, 1, 2, 0, iwork, idid, short_run)
+         call radau5_van_der_pol(3.0_dp, legacy_vdp_jacobian, ijac, 2, 0, iwork, idid, short_run)
          short_steps = iwork(16)
-         call check(error, idid, 1, "TAYLORODE to 3")
+         call check(error, idid, 1, label//" to 3")
          if (allocated(error)) return
-         call radau5_van_der_pol(30.0_dp, legacy_vdp_jacobian, 1, 2, 0, iwork, idid, long_run)
-         call check(error, idid, 1, "TAYLORODE to 30")
+         call radau5_van_der_pol(30.0_dp, legacy_vdp_jacobian, ijac, 2, 0, iwork, idid, long_run)
+         call check(error, idid, 1, label//" to 30")
          if (allocated(error)) return
-         call check(error, iwork(16) > 5*short_steps, "TAYLORODE: runs too alike")
+         call check(error, iwork(16) > 5*short_steps, label//": runs too alike")
          if (allocated(error)) return
-         call check(error, int(long_run), int(short_run), "TAYLORODE: allocations grow with the steps")
+         call check(error, int(long_run), int(short_run), label//": allocations grow with the steps")
       end subroutine compare_legacy_runs
-      subroutine compare_runs(model, name, options, short_end, long_end, label, failures)
+      !> With `strided`, the state is every other entry of an array of twice its size.
+      subroutine compare_runs(model, name, options, short_end, long_end, label, failures, strided)
          class(ode_problem), intent(inout) :: model
          character(len=*), intent(in) :: name, label
          type(integrator_options_type), intent(in) :: options
          real(dp), intent(in) :: short_end, long_end
-         logical, intent(in), optional :: failures
+         logical, intent(in), optional :: failures, strided
          class(scheme_type), allocatable :: scheme
-         type(integration_stats_type) :: short_stats, long_stats
+         type(integration_stats_type) :: short_stats, long_stats, stats(3)
          type(status_type) :: stat
-         real(dp), allocatable :: u0(:), u(:)
-         integer(c_long_long) :: before, short_run, long_run
+         real(dp), allocatable :: u0(:), u(:), storage(:)
+         real(dp) :: ends(3)
+         integer(c_long_long) :: before, short_run, long_run, runs(3)
+         integer :: k
+         logical :: every_other
          select type (model)
          type is (differenced_brusselator)
             u0 = model%model%u0
          class default
             u0 = [2.0_dp, 0.0_dp]
          end select
+         every_other = .false.
+         if (present(strided)) every_other = strided
          call new_scheme(name, scheme, stat)
+         allocate (storage(2*size(u0)))
+         u = u0
          ! the first integration sizes the scheme's work arrays
-         u = u0
-         call integrate(model, scheme, 0.0_dp, 0.1_dp*short_end, u, options, short_stats, stat)
-         u = u0
-         before = allocation_count()
-         call integrate(model, scheme, 0.0_dp, short_end, u, options, short_stats, stat)
-         short_run = allocation_count() - before
-         u = u0
-         before = allocation_count()
-         call integrate(model, scheme, 0.0_dp, long_end, u, options, long_stats, stat)
-         long_run = allocation_count() - before
+         ends = [0.1_dp*short_end, short_end, long_end]
+         do k = 1, 3
+            u = u0
+            storage(1::2) = u0
+            before = allocation_count()
+            if (every_other) then
+               call integrate(model, scheme, 0.0_dp, ends(k), storage(1::2), options, stats(k), stat)
+            else
+               call integrate(model, scheme, 0.0_dp, ends(k), u, options, stats(k), stat)
+            end if
+            runs(k) = allocation_count() - before
+         end do
+         short_stats = stats(2)
+         long_stats = stats(3)
+         short_run = runs(2)
+         long_run = runs(3)
          call check(error, stat%code, status_ok, label//": "//stat_message(stat))
          if (allocated(error)) return
          call check(error, long_stats%accepted_steps > 5*short_stats%accepted_steps, label//": runs too alike")

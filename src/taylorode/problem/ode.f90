@@ -761,7 +761,9 @@ contains
          if (present(value)) then
             base = value
          else
-            call evaluate_part(self, part, t, u, base)
+            ! at the probe, not at u (see difference_columns)
+            probe = u
+            call evaluate_part(self, part, t, probe, base)
          end if
          do group = 1, min(width, n)
             probe = u
@@ -828,30 +830,32 @@ contains
          self%differences%probe, value)
    end subroutine dense_differences
 
-   !> dense_differences' columns over explicit-shape arrays (on a few unknowns the copies
-   !> and columns through array descriptors cost more than the evaluations).
+   !> dense_differences' columns, the work arrays explicit-shape (on a few unknowns the
+   !> copies and columns through array descriptors cost more than the evaluations). The
+   !> part is evaluated at the probe only, never at the caller's u: evaluate_part passes
+   !> its arrays to rhs_values as explicit-shape, which would copy a non-contiguous u.
    subroutine difference_columns(self, part, n, t, u, jac, base, shifted, probe, value)
       class(ode_problem), intent(inout) :: self
       integer, intent(in) :: part, n
-      real(dp), intent(in) :: t, u(n)
-      real(dp), intent(out) :: jac(n, n)
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
       !> The work arrays: the part at u, at the probe, and the probe
       real(dp), intent(out) :: base(n), shifted(n), probe(n)
-      real(dp), intent(in), optional :: value(n)
+      real(dp), intent(in), optional :: value(:)
       real(dp) :: increment
       integer :: i, j
+      !GCC$ unroll 1
+      do i = 1, n
+         probe(i) = u(i)
+      end do
       if (present(value)) then
          !GCC$ unroll 1
          do i = 1, n
             base(i) = value(i)
          end do
       else
-         call evaluate_part(self, part, t, u, base)
+         call evaluate_part(self, part, t, probe, base)
       end if
-      !GCC$ unroll 1
-      do i = 1, n
-         probe(i) = u(i)
-      end do
       do j = 1, n
          increment = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
          probe(j) = u(j) + increment
@@ -901,7 +905,9 @@ contains
       end associate
    end subroutine directional_difference
 
-   !> f(t, state), g(t, state) or F(t, state) = `rhs_values` as `part` says.
+   !> f(t, state), g(t, state) or F(t, state) = `rhs_values` as `part` says; state and
+   !> value are the differences' work arrays (contiguous: rhs_values takes explicit-shape
+   !> arrays, and would copy others).
    subroutine evaluate_part(problem, part, t, state, value)
       class(ode_problem), intent(inout) :: problem
       integer, intent(in) :: part
