@@ -22,6 +22,10 @@ module test_legacy
    !> Storage large enough for RADAU5 itself on 8 unknowns (4 N^2 + 12 N + 20, 3 N + 20)
    integer, parameter :: lwork = 4*8*8 + 12*8 + 20, liwork = 3*8 + 20
 
+   !> The states of the first calls of recorded_vdp, and how many it recorded
+   real(dp) :: recorded_states(2, 8)
+   integer :: recorded_calls = 0
+
    !> The same Van der Pol as `vdp` below, as an ode_problem (F and J in one call each)
    type, extends(ode_problem) :: vdp_type
    contains
@@ -84,6 +88,7 @@ contains
          new_unittest("settings-in-range-accepted", test_settings_accepted), &
          new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
          new_unittest("difference-jacobian-from-fcn", test_difference_jacobian), &
+         new_unittest("difference-increment-from-uround", test_difference_increment), &
          new_unittest("newton-iterations-honoured", test_newton_iterations), &
          new_unittest("step-budget-statistics", test_budget), &
          new_unittest("evaluation-flag", test_evaluation_flag), &
@@ -273,6 +278,43 @@ contains
       call check(error, maxval(abs(y - y_analytic)) <= 1.0e-9_dp*maxval(abs(y_analytic)), &
          "the differenced run ends "//format_real(maxval(abs(y - y_analytic)))//" from the analytic one")
    end subroutine test_difference_jacobian
+
+   !> Without JAC, TAYLORODE perturbs y_j by sqrt(UROUND max(1e-5, |y_j|)) as RADAU5 does,
+   !> UROUND = WORK(1) (1e-16 when 0): the first Jacobian's first column is taken at y0 +
+   !> that increment in y_1 (the calls before it evaluate F at y0). Before, the increment
+   !> took epsilon = 2.2e-16 whatever WORK(1) said, and Robertson to 1e11 took up to 27 %
+   !> more attempts than RADAU5 without JAC (since: RADAU5's counts from RTOL 1e-3 on).
+   subroutine test_difference_increment(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: rounding_units(2) = [0.0_dp, 1.0e-10_dp]
+      real(dp) :: x, y(2), y0(2), h, rtol(1), atol(1), work(lwork), rpar(1), uround, expected, found
+      integer :: iwork(liwork), ipar(1), idid, k, call
+      character(len=:), allocatable :: message
+      do k = 1, size(rounding_units)
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         y0 = y
+         work(1) = rounding_units(k)
+         uround = merge(1.0e-16_dp, rounding_units(k), rounding_units(k) == 0.0_dp)
+         recorded_calls = 0
+         call legacy_solve("radau5", 2, recorded_vdp, recorded_vdp, .false., x, y, 1.0e-3_dp, h, rtol, atol, 0, &
+            vdp_jacobian, 0, vdp_jacobian, 0, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, size(work), &
+            iwork, size(iwork), rpar, ipar, idid, message)
+         call check(error, idid, 1, "WORK(1) = "//format_real(rounding_units(k))//": "//message)
+         if (allocated(error)) return
+         expected = (y0(1) + sqrt(uround*max(1.0e-5_dp, abs(y0(1))))) - y0(1)
+         found = 0.0_dp
+         do call = 1, min(recorded_calls, size(recorded_states, 2))
+            if (recorded_states(1, call) /= y0(1) .and. recorded_states(2, call) == y0(2)) then
+               found = recorded_states(1, call) - y0(1)
+               exit
+            end if
+         end do
+         call check(error, abs(found - expected) <= 1.0e-12_dp*expected, "WORK(1) = "// &
+            format_real(rounding_units(k))//": y_1 perturbed by "//format_real(found)//", RADAU5's "// &
+            format_real(expected))
+         if (allocated(error)) return
+      end do
+   end subroutine test_difference_increment
 
    !> IWORK(3) reaches radau5 (RADAU5's NIT): with 2 Newton iterations per attempt no
    !> attempt makes more (IWORK(20) <= 2 IWORK(16)), with the default 7 some do (before:
@@ -560,6 +602,16 @@ contains
       f(1) = y(2)
       f(2) = mu*((1.0_dp - y(1)**2)*y(2) - y(1))
    end subroutine vdp
+
+   !> vdp, recording the states of its first calls (recorded_states, recorded_calls)
+   subroutine recorded_vdp(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      recorded_calls = recorded_calls + 1
+      if (recorded_calls <= size(recorded_states, 2)) recorded_states(:, recorded_calls) = y
+      call vdp(n, x, y, f, rpar, ipar)
+   end subroutine recorded_vdp
 
    !> vdp, counting its calls in rpar(1)
    subroutine counted_vdp(n, x, y, f, rpar, ipar)

@@ -38,7 +38,7 @@ module taylorode_interfaces_legacy
    use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences, difference_f, difference_g, &
-      difference_rhs
+      difference_rhs, set_difference_rounding
    use taylorode_schemes_scheme, only: scheme_type
    use taylorode_schemes_registry, only: new_scheme
    use taylorode_schemes_radau5, only: radau5_type, describe_radau5
@@ -341,6 +341,8 @@ contains
          uround = default_uround
          if (work(1) /= 0.0_dp) uround = work(1)
          if (.not. (uround > 1.0e-19_dp .and. uround < 1.0_dp)) return
+         ! RADAU5 differences its Jacobian with the increment sqrt(UROUND max(1e-5, |y_j|))
+         call set_difference_rounding(problem, uround)
          ! tolerances: radau5 takes RADAU5's rtol' = 0.1 rtol^(2/3), atol' = atol rtol'/rtol
          reason = reason_tolerance
          components = merge(1, n, itol == 0)

@@ -30,6 +30,7 @@ module taylorode_problem_ode
    private
 
    public :: ode_problem, ode_problem_fd, rhs_interface, jacobian_interface, dense_differences, band_differences
+   public :: set_difference_rounding
    public :: reduce_sum, reduce_max, difference_f, difference_g, difference_rhs, full_jacobian, full_band_jacobian
 
    !> `reduce` operation: the sum over the processes
@@ -91,6 +92,8 @@ module taylorode_problem_ode
       character(len=200), private :: memory = ""
       !> Work arrays of the finite-difference Jacobians
       type(difference_workspace_type), private :: differences
+      !> The rounding unit u of the difference Jacobians' increment sqrt(u max(|u_j|, 1e-5))
+      real(dp), private :: difference_rounding = epsilon(1.0_dp)
       !> g(t, U) for the default `rhs` (allocated at its first call)
       real(dp), allocatable, private :: rhs_work(:)
       !> dg/dU for the default `jac` and `jac_band` (allocated at their first call)
@@ -768,7 +771,7 @@ contains
          do group = 1, min(width, n)
             probe = u
             do j = group, n, width
-               increment(j) = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
+               increment(j) = sqrt(self%difference_rounding*max(abs(u(j)), difference_floor))
                probe(j) = u(j) + increment(j)
                increment(j) = probe(j) - u(j)
             end do
@@ -808,8 +811,20 @@ contains
       call dense_differences(self, difference_g, t, u, jac)
    end subroutine fd_jac_g
 
+   !> The rounding unit u of the difference Jacobians' increment sqrt(u max(|u_j|, 1e-5))
+   !> (default: epsilon). The legacy entry sets its UROUND (WORK(1), 1e-16 unless given),
+   !> with which RADAU5 differences; the caller checks it (in (0, 1)).
+   subroutine set_difference_rounding(self, rounding)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> The rounding unit
+      real(dp), intent(in) :: rounding
+      self%difference_rounding = rounding
+   end subroutine set_difference_rounding
+
    !> Column-by-column forward differences of f, g or F = f + g (`part`), with the
-   !> increment sqrt(eps max(|u_j|, 1e-5)) (RADAU5's; see difference_floor).
+   !> increment sqrt(u max(|u_j|, 1e-5)) (RADAU5's; see difference_floor and
+   !> set_difference_rounding).
    subroutine dense_differences(self, part, t, u, jac, value)
       !> The problem
       class(ode_problem), intent(inout) :: self
@@ -857,7 +872,7 @@ contains
          call evaluate_part(self, part, t, probe, base)
       end if
       do j = 1, n
-         increment = sqrt(epsilon(1.0_dp)*max(abs(u(j)), difference_floor))
+         increment = sqrt(self%difference_rounding*max(abs(u(j)), difference_floor))
          probe(j) = u(j) + increment
          increment = probe(j) - u(j)
          call evaluate_part(self, part, t, probe, shifted)
