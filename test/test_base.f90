@@ -8,8 +8,9 @@ module test_base
       small_lu_solve, small_lu_solve_pair, complex_lu_factor, complex_lu_solve, narrow_band_lu_factor, &
       narrow_band_lu_solve, complex_band_lu_factor, complex_band_lu_solve
    use taylorode_base_status, only: status_type, status_ok
-   use taylorode_linalg_matrix, only: matrix_type, band_matrix_type, matrix_structure_type, new_matrix, storage_band
-   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+   use taylorode_linalg_matrix, only: matrix_type, band_matrix_type, dense_matrix_type, matrix_structure_type, &
+      new_matrix, storage_band, storage_dense
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_quiet_nan
    implicit none
    private
 
@@ -26,7 +27,8 @@ contains
          new_unittest("written-out-complex-band-lu-equals-lapack", test_written_out_complex_band_lu), &
          new_unittest("band-set-scaled-sets-the-band", test_band_set_scaled), &
          new_unittest("band-product-both-orders", test_band_product), &
-         new_unittest("pair-solve-equals-single-solves", test_pair_solve) &
+         new_unittest("pair-solve-equals-single-solves", test_pair_solve), &
+         new_unittest("matrix-finiteness-every-entry", test_all_finite) &
          ]
    end subroutine collect_base
 
@@ -319,6 +321,53 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_band_product
+
+   !> all_finite finds a NaN or an Inf at every entry of a dense matrix (3 x 3) and of a
+   !> band (bands (2, 1) of 5, with the rows a factorization fills), and nothing in the
+   !> fill rows, which are not the matrix's.
+   subroutine test_all_finite(error)
+      type(error_type), allocatable, intent(out) :: error
+      class(matrix_type), allocatable :: a
+      type(status_type) :: stat
+      real(dp) :: bad(2)
+      integer :: i, j, k
+      bad = [ieee_value(1.0_dp, ieee_quiet_nan), ieee_value(1.0_dp, ieee_positive_inf)]
+      call new_matrix(a, 3, matrix_structure_type(storage_dense, 3, 3), stat)
+      call check(error, a%all_finite(), "a dense matrix of zeros")
+      if (allocated(error)) return
+      select type (a)
+      type is (dense_matrix_type)
+         do k = 1, size(bad)
+            do j = 1, 3
+               do i = 1, 3
+                  a%a(i, j) = bad(k)
+                  call check(error, .not. a%all_finite(), "dense: "//format_real(bad(k))//" at ("// &
+                     format_integer(i)//", "//format_integer(j)//") not found")
+                  if (allocated(error)) return
+                  a%a(i, j) = 1.0_dp
+               end do
+            end do
+         end do
+      end select
+      call new_matrix(a, 5, matrix_structure_type(storage_band, 2, 1), stat, factored=.true.)
+      select type (a)
+      type is (band_matrix_type)
+         a%ab(1:a%fill, :) = bad(1)
+         call check(error, a%all_finite(), "band: a NaN in the fill rows taken for the matrix's")
+         if (allocated(error)) return
+         do k = 1, size(bad)
+            do j = 1, 5
+               do i = max(1, j - 1), min(5, j + 2)
+                  a%ab(a%diagonal + i - j, j) = bad(k)
+                  call check(error, .not. a%all_finite(), "band: "//format_real(bad(k))//" at ("// &
+                     format_integer(i)//", "//format_integer(j)//") not found")
+                  if (allocated(error)) return
+                  a%ab(a%diagonal + i - j, j) = 1.0_dp
+               end do
+            end do
+         end do
+      end select
+   end subroutine test_all_finite
 
    !> small_lu_solve_pair (a real and a complex system in one pass, Radau IIA's two)
    !> gives the real solution of small_lu_solve with the reciprocal pivots bit for bit,

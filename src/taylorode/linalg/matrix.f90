@@ -266,11 +266,8 @@ contains
       all_finite = .false.
       select type (self)
       type is (dense_matrix_type)
-         do j = 1, self%n
-            do i = 1, self%n
-               if (.not. ieee_is_finite(self%a(i, j))) return
-            end do
-         end do
+         all_finite = finite_values(size(self%a), self%a)
+         return
       type is (band_matrix_type)
          do j = 1, self%n
             do i = max(1, j - self%ku), min(self%n, j + self%kl)
@@ -280,6 +277,20 @@ contains
       end select
       all_finite = .true.
    end function all_finite
+
+   !> No NaN or Inf among n values (a dense matrix's storage, in one loop: its columns are
+   !> a few entries long for the small systems, where nested loops cost more to enter)
+   pure logical function finite_values(n, values)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: values(n)
+      integer :: i
+      finite_values = .false.
+      !GCC$ unroll 1
+      do i = 1, n
+         if (.not. ieee_is_finite(values(i))) return
+      end do
+      finite_values = .true.
+   end function finite_values
 
    subroutine mismatch(stat, operation)
       type(status_type), intent(inout) :: stat
