@@ -21,8 +21,9 @@
 !> of a LAPACK call exceeds the arithmetic (dgetrs takes ~36 ns at n = 2, the
 !> elimination a few ns), and `small_lu_solve_pair`, which solves a real and a
 !> complex system (Radau IIA's two) with such factors in one pass. Up to order 4
-!> (the stacked Newton matrices of two unknowns) the real solve is written out
-!> statement by statement: the loops' set-up cost more than their arithmetic there.
+!> (the stacked Newton matrices of two unknowns, Radau IIA's on problems of two to four
+!> unknowns) both solves are written out statement by statement, the same operations
+!> in the same order: the loops' set-up cost more than their arithmetic there.
 !> For the same reason their loops are not unrolled (`!GCC$ unroll 1`, which
 !> overrides fpm's -funroll-loops): an unrolled loop of trip count 2 runs through
 !> a ladder of remainder tests.
@@ -721,7 +722,8 @@ contains
    !> `small_lu_factor` (and its reciprocal pivots) in one pass over the rows: the two
    !> Newton systems of Radau IIA on small dense problems, where the loops cost more
    !> than their arithmetic (and array descriptors more than the loops: the arguments
-   !> are explicit-shape). Each value is computed as `small_lu_solve` computes it.
+   !> are explicit-shape). Each value is computed as `small_lu_solve` computes it; up to
+   !> order 4 the two solves are written out (`tiny_lu_solve`, `tiny_complex_solve`).
    pure subroutine small_lu_solve_pair(n, a, a_pivots, a_inverse_diagonal, c, c_pivots, c_inverse_diagonal, x, re, im)
       !> Order of the systems
       integer, intent(in) :: n
@@ -744,6 +746,11 @@ contains
       integer :: i, k, p
       real(dp) :: swap, bk, br, bi, lr, li
 
+      if (n <= 4) then
+         call tiny_lu_solve(n, a, a_pivots, x, a_inverse_diagonal)
+         call tiny_complex_solve(n, c, c_pivots, c_inverse_diagonal, re, im)
+         return
+      end if
       !GCC$ unroll 1
       do k = 1, n
          p = a_pivots(k)
@@ -802,6 +809,138 @@ contains
          imi = imi - (br*li + bi*lr)
       end subroutine eliminate
    end subroutine small_lu_solve_pair
+
+   !> The complex half of `small_lu_solve_pair` for n <= 4, statement by statement as
+   !> `tiny_lu_solve` is for the real one: the row interchanges, then the forward and
+   !> back substitution on the real and imaginary parts, the same operations in the same
+   !> order as the pair's loops, so the same numbers bit for bit.
+   pure subroutine tiny_complex_solve(n, c, pivots, inverse_diagonal, re, im)
+      !> Order, at most 4
+      integer, intent(in) :: n
+      !> LU factors
+      complex(dp), intent(in) :: c(n, n)
+      !> Pivot indices
+      integer, intent(in) :: pivots(n)
+      !> 1/U(k, k)
+      complex(dp), intent(in) :: inverse_diagonal(n)
+      !> Real and imaginary parts of the right-hand side on entry, of the solution on exit
+      real(dp), intent(inout) :: re(n), im(n)
+      real(dp) :: r1, r2, r3, r4, i1, i2, i3, i4
+      integer :: k, p
+      real(dp) :: swap
+      ! (the last row has no other row left to interchange with: pivots(n) = n)
+      !GCC$ unroll 1
+      do k = 1, n - 1
+         p = pivots(k)
+         if (p /= k) then
+            swap = re(k)
+            re(k) = re(p)
+            re(p) = swap
+            swap = im(k)
+            im(k) = im(p)
+            im(p) = swap
+         end if
+      end do
+      select case (n)
+      case (1)
+         r1 = re(1)
+         i1 = im(1)
+         call divide(r1, i1, inverse_diagonal(1))
+         re(1) = r1
+         im(1) = i1
+      case (2)
+         r1 = re(1)
+         i1 = im(1)
+         r2 = re(2)
+         i2 = im(2)
+         call eliminate(r2, i2, r1, i1, c(2, 1))
+         call divide(r2, i2, inverse_diagonal(2))
+         call eliminate(r1, i1, r2, i2, c(1, 2))
+         call divide(r1, i1, inverse_diagonal(1))
+         re(1) = r1
+         im(1) = i1
+         re(2) = r2
+         im(2) = i2
+      case (3)
+         r1 = re(1)
+         i1 = im(1)
+         r2 = re(2)
+         i2 = im(2)
+         r3 = re(3)
+         i3 = im(3)
+         call eliminate(r2, i2, r1, i1, c(2, 1))
+         call eliminate(r3, i3, r1, i1, c(3, 1))
+         call eliminate(r3, i3, r2, i2, c(3, 2))
+         call divide(r3, i3, inverse_diagonal(3))
+         call eliminate(r1, i1, r3, i3, c(1, 3))
+         call eliminate(r2, i2, r3, i3, c(2, 3))
+         call divide(r2, i2, inverse_diagonal(2))
+         call eliminate(r1, i1, r2, i2, c(1, 2))
+         call divide(r1, i1, inverse_diagonal(1))
+         re(1) = r1
+         im(1) = i1
+         re(2) = r2
+         im(2) = i2
+         re(3) = r3
+         im(3) = i3
+      case (4)
+         r1 = re(1)
+         i1 = im(1)
+         r2 = re(2)
+         i2 = im(2)
+         r3 = re(3)
+         i3 = im(3)
+         r4 = re(4)
+         i4 = im(4)
+         call eliminate(r2, i2, r1, i1, c(2, 1))
+         call eliminate(r3, i3, r1, i1, c(3, 1))
+         call eliminate(r4, i4, r1, i1, c(4, 1))
+         call eliminate(r3, i3, r2, i2, c(3, 2))
+         call eliminate(r4, i4, r2, i2, c(4, 2))
+         call eliminate(r4, i4, r3, i3, c(4, 3))
+         call divide(r4, i4, inverse_diagonal(4))
+         call eliminate(r1, i1, r4, i4, c(1, 4))
+         call eliminate(r2, i2, r4, i4, c(2, 4))
+         call eliminate(r3, i3, r4, i4, c(3, 4))
+         call divide(r3, i3, inverse_diagonal(3))
+         call eliminate(r1, i1, r3, i3, c(1, 3))
+         call eliminate(r2, i2, r3, i3, c(2, 3))
+         call divide(r2, i2, inverse_diagonal(2))
+         call eliminate(r1, i1, r2, i2, c(1, 2))
+         call divide(r1, i1, inverse_diagonal(1))
+         re(1) = r1
+         im(1) = i1
+         re(2) = r2
+         im(2) = i2
+         re(3) = r3
+         im(3) = i3
+         re(4) = r4
+         im(4) = i4
+      end select
+   contains
+      !> (rei, imi) less c_ik times (br, bi), as the pair's `eliminate`
+      pure subroutine eliminate(rei, imi, br, bi, c_ik)
+         real(dp), intent(inout) :: rei, imi
+         real(dp), intent(in) :: br, bi
+         complex(dp), intent(in) :: c_ik
+         real(dp) :: lr, li
+         lr = c_ik%re
+         li = c_ik%im
+         rei = rei - (br*lr - bi*li)
+         imi = imi - (br*li + bi*lr)
+      end subroutine eliminate
+      !> (br, bi) times the reciprocal pivot (lr, li)
+      pure subroutine divide(br, bi, inverse)
+         real(dp), intent(inout) :: br, bi
+         complex(dp), intent(in) :: inverse
+         real(dp) :: lr, li, r
+         lr = inverse%re
+         li = inverse%im
+         r = br*lr - bi*li
+         bi = br*li + bi*lr
+         br = r
+      end subroutine divide
+   end subroutine tiny_complex_solve
 
    !> `small_lu_solve_real` (with 1/U(k, k)) for n <= 4, statement by statement: the row
    !> interchanges, then the forward and back substitution; the same operations in the
