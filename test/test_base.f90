@@ -28,6 +28,7 @@ contains
          new_unittest("band-set-scaled-sets-the-band", test_band_set_scaled), &
          new_unittest("band-product-both-orders", test_band_product), &
          new_unittest("pair-solve-equals-single-solves", test_pair_solve), &
+         new_unittest("tiny-lu-equals-column-elimination", test_tiny_lu), &
          new_unittest("matrix-finiteness-every-entry", test_all_finite) &
          ]
    end subroutine collect_base
@@ -461,6 +462,147 @@ contains
          end do
       end do
    end subroutine substitute_by_columns
+
+   !> small_lu_factor, real and complex, written out statement by statement up to order 4,
+   !> gives the pivots, factors, reciprocal pivots and first zero pivot of the elimination
+   !> column by column (`eliminate_by_columns`) bit for bit, for orders 1 to 6 (5 and 6 the
+   !> loops) on 300 pseudo-random matrices each: half of the entries off the diagonal zero
+   !> (the update skips their columns), ties in magnitude (the first row of the largest
+   !> magnitude is the pivot), and one matrix in ten singular (a zero column).
+   subroutine test_tiny_lu(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), allocatable :: a(:, :), a_expected(:, :), inverse(:), inverse_expected(:)
+      complex(dp), allocatable :: c(:, :), c_expected(:, :), c_inverse(:), c_inverse_expected(:)
+      integer, allocatable :: pivots(:), pivots_expected(:)
+      integer :: n, trial, i, j, info, info_expected
+      integer(i8) :: state
+      character(len=:), allocatable :: label
+
+      state = 20261126_i8
+      do n = 1, 6
+         allocate (a(n, n), a_expected(n, n), inverse(n), inverse_expected(n), c(n, n), c_expected(n, n), &
+            c_inverse(n), c_inverse_expected(n), pivots(n), pivots_expected(n))
+         do trial = 1, 300
+            label = "n = "//format_integer(n)//", matrix "//format_integer(trial)
+            do j = 1, n
+               do i = 1, n
+                  a(i, j) = next_value(state)
+                  c(i, j) = cmplx(next_value(state), next_value(state), dp)
+                  if (i /= j .and. next_value(state) > 0.0_dp) then
+                     a(i, j) = 0.0_dp
+                     c(i, j) = (0.0_dp, 0.0_dp)
+                  end if
+                  ! a tie: the same magnitude as the entry above it
+                  if (i > 1 .and. next_value(state) > 0.8_dp) then
+                     a(i, j) = -a(i - 1, j)
+                     c(i, j) = cmplx(-c(i - 1, j)%re, c(i - 1, j)%im, dp)
+                  end if
+               end do
+            end do
+            if (mod(trial, 10) == 0) then
+               j = 1 + mod(trial/10, n)
+               a(:, j) = 0.0_dp
+               c(:, j) = (0.0_dp, 0.0_dp)
+            end if
+            a_expected = a
+            c_expected = c
+            call eliminate_by_columns(a_expected, pivots_expected, info_expected, inverse_expected)
+            call small_lu_factor(n, a, pivots, info, inverse)
+            call check(error, info == info_expected .and. all(pivots == pivots_expected) .and. &
+               all(a == a_expected) .and. all(inverse == inverse_expected .or. diagonal(a) == 0.0_dp), &
+               label//": the real factors differ from the elimination column by column")
+            if (allocated(error)) return
+            call complex_eliminate_by_columns(c_expected, pivots_expected, info_expected, c_inverse_expected)
+            call small_lu_factor(n, c, pivots, info, c_inverse)
+            call check(error, info == info_expected .and. all(pivots == pivots_expected) .and. &
+               all(c == c_expected) .and. all(c_inverse == c_inverse_expected .or. &
+               [(c(j, j) == (0.0_dp, 0.0_dp), j=1, n)]), &
+               label//": the complex factors differ from the elimination column by column")
+            if (allocated(error)) return
+         end do
+         deallocate (a, a_expected, inverse, inverse_expected, c, c_expected, c_inverse, c_inverse_expected, &
+            pivots, pivots_expected)
+      end do
+   contains
+      pure function diagonal(a) result(d)
+         real(dp), intent(in) :: a(:, :)
+         real(dp) :: d(size(a, 1))
+         integer :: k
+         d = [(a(k, k), k=1, size(a, 1))]
+      end function diagonal
+   end subroutine test_tiny_lu
+
+   !> LU with partial pivoting column by column (the first row of the largest magnitude
+   !> is the pivot; a zero multiplier row entry skips its column; a zero pivot is
+   !> reported and its column left), with the reciprocals of the pivots.
+   pure subroutine eliminate_by_columns(a, pivots, info, inverse)
+      real(dp), intent(inout) :: a(:, :)
+      integer, intent(out) :: pivots(:), info
+      real(dp), intent(out) :: inverse(:)
+      integer :: i, j, k, p, n
+      real(dp) :: row(size(a, 2))
+      n = size(a, 1)
+      info = 0
+      do k = 1, n
+         p = k
+         do i = k + 1, n
+            if (abs(a(i, k)) > abs(a(p, k))) p = i
+         end do
+         pivots(k) = p
+         if (a(p, k) == 0.0_dp) then
+            if (info == 0) info = k
+            cycle
+         end if
+         row = a(k, :)
+         a(k, :) = a(p, :)
+         a(p, :) = row
+         inverse(k) = 1.0_dp/a(k, k)
+         a(k + 1:, k) = a(k + 1:, k)*inverse(k)
+         do j = k + 1, n
+            if (a(k, j) /= 0.0_dp) a(k + 1:, j) = a(k + 1:, j) - a(k, j)*a(k + 1:, k)
+         end do
+      end do
+   end subroutine eliminate_by_columns
+
+   !> eliminate_by_columns for a complex matrix: magnitudes |Re| + |Im| (LAPACK's), the
+   !> reciprocal of a pivot scaled by its larger part.
+   pure subroutine complex_eliminate_by_columns(a, pivots, info, inverse)
+      complex(dp), intent(inout) :: a(:, :)
+      integer, intent(out) :: pivots(:), info
+      complex(dp), intent(out) :: inverse(:)
+      integer :: i, j, k, p, n
+      complex(dp) :: row(size(a, 2))
+      real(dp) :: ratio, denominator
+      n = size(a, 1)
+      info = 0
+      do k = 1, n
+         p = k
+         do i = k + 1, n
+            if (abs(a(i, k)%re) + abs(a(i, k)%im) > abs(a(p, k)%re) + abs(a(p, k)%im)) p = i
+         end do
+         pivots(k) = p
+         if (a(p, k) == (0.0_dp, 0.0_dp)) then
+            if (info == 0) info = k
+            cycle
+         end if
+         row = a(k, :)
+         a(k, :) = a(p, :)
+         a(p, :) = row
+         if (abs(a(k, k)%re) >= abs(a(k, k)%im)) then
+            ratio = a(k, k)%im/a(k, k)%re
+            denominator = a(k, k)%re + a(k, k)%im*ratio
+            inverse(k) = cmplx(1.0_dp/denominator, -ratio/denominator, dp)
+         else
+            ratio = a(k, k)%re/a(k, k)%im
+            denominator = a(k, k)%re*ratio + a(k, k)%im
+            inverse(k) = cmplx(ratio/denominator, -1.0_dp/denominator, dp)
+         end if
+         a(k + 1:, k) = a(k + 1:, k)*inverse(k)
+         do j = k + 1, n
+            if (a(k, j) /= (0.0_dp, 0.0_dp)) a(k + 1:, j) = a(k + 1:, j) - a(k, j)*a(k + 1:, k)
+         end do
+      end do
+   end subroutine complex_eliminate_by_columns
 
    !> (re + i im) = C^(-1) (re + i im) from C's LU factors, row interchanges and 1/U(k, k),
    !> as substitute_by_columns on the real and imaginary parts: each complex product

@@ -22,8 +22,9 @@
 !> elimination a few ns), and `small_lu_solve_pair`, which solves a real and a
 !> complex system (Radau IIA's two) with such factors in one pass. Up to order 4
 !> (the stacked Newton matrices of two unknowns, Radau IIA's on problems of two to four
-!> unknowns) both solves are written out statement by statement, the same operations
-!> in the same order: the loops' set-up cost more than their arithmetic there.
+!> unknowns) the factorizations and both solves are written out statement by statement,
+!> the same operations in the same order: the loops' set-up cost more than their
+!> arithmetic there.
 !> For the same reason their loops are not unrolled (`!GCC$ unroll 1`, which
 !> overrides fpm's -funroll-loops): an unrolled loop of trip count 2 runs through
 !> a ladder of remainder tests.
@@ -614,6 +615,10 @@ contains
       integer :: i, j, k, p
       real(dp) :: largest, pivot, swap, factor
 
+      if (n <= 4) then
+         call tiny_lu_factor_real(n, a, ipiv, info, inverse_diagonal)
+         return
+      end if
       info = 0
       !GCC$ unroll 1
       do k = 1, n
@@ -658,6 +663,210 @@ contains
          end do
       end do
    end subroutine small_lu_factor_real
+
+   !> `small_lu_factor_real` for n <= 4, statement by statement (column k: the pivot,
+   !> the row interchange, the multipliers, the update of the columns right of it): the
+   !> same operations in the same order as its loops, so the same factors bit for bit.
+   pure subroutine tiny_lu_factor_real(n, a, ipiv, info, inverse_diagonal)
+      !> Order, at most 4
+      integer, intent(in) :: n
+      !> Square matrix on entry, its LU factors on exit
+      real(dp), intent(inout) :: a(n, n)
+      !> Pivot indices
+      integer, intent(out) :: ipiv(n)
+      !> 0 success, k > 0 singular (first zero pivot)
+      integer, intent(out) :: info
+      !> 1/U(k, k)
+      real(dp), intent(out), optional :: inverse_diagonal(n)
+      integer :: p
+      real(dp) :: largest
+      real(dp) :: pivot, factor
+      info = 0
+      select case (n)
+      case (1)
+         ipiv(1) = 1
+         if (a(1, 1) == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            pivot = 1.0_dp/a(1, 1)
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+         end if
+      case (2)
+         largest = abs(a(1, 1))
+         p = 1
+         if (abs(a(2, 1)) > largest) p = 2
+         ipiv(1) = p
+         if (a(p, 1) == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            if (p /= 1) call interchange_rows(n, a, 1, p)
+            pivot = 1.0_dp/a(1, 1)
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+            a(2, 1) = a(2, 1)*pivot
+            factor = a(1, 2)
+            if (factor /= 0.0_dp) a(2, 2) = a(2, 2) - factor*a(2, 1)
+         end if
+         ipiv(2) = 2
+         if (a(2, 2) == 0.0_dp) then
+            if (info == 0) info = 2
+         else
+            pivot = 1.0_dp/a(2, 2)
+            if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
+         end if
+      case (3)
+         largest = abs(a(1, 1))
+         p = 1
+         if (abs(a(2, 1)) > largest) then
+            largest = abs(a(2, 1))
+            p = 2
+         end if
+         if (abs(a(3, 1)) > largest) p = 3
+         ipiv(1) = p
+         if (a(p, 1) == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            if (p /= 1) call interchange_rows(n, a, 1, p)
+            pivot = 1.0_dp/a(1, 1)
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+            a(2, 1) = a(2, 1)*pivot
+            a(3, 1) = a(3, 1)*pivot
+            factor = a(1, 2)
+            if (factor /= 0.0_dp) then
+               a(2, 2) = a(2, 2) - factor*a(2, 1)
+               a(3, 2) = a(3, 2) - factor*a(3, 1)
+            end if
+            factor = a(1, 3)
+            if (factor /= 0.0_dp) then
+               a(2, 3) = a(2, 3) - factor*a(2, 1)
+               a(3, 3) = a(3, 3) - factor*a(3, 1)
+            end if
+         end if
+         largest = abs(a(2, 2))
+         p = 2
+         if (abs(a(3, 2)) > largest) p = 3
+         ipiv(2) = p
+         if (a(p, 2) == 0.0_dp) then
+            if (info == 0) info = 2
+         else
+            if (p /= 2) call interchange_rows(n, a, 2, p)
+            pivot = 1.0_dp/a(2, 2)
+            if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
+            a(3, 2) = a(3, 2)*pivot
+            factor = a(2, 3)
+            if (factor /= 0.0_dp) a(3, 3) = a(3, 3) - factor*a(3, 2)
+         end if
+         ipiv(3) = 3
+         if (a(3, 3) == 0.0_dp) then
+            if (info == 0) info = 3
+         else
+            pivot = 1.0_dp/a(3, 3)
+            if (present(inverse_diagonal)) inverse_diagonal(3) = pivot
+         end if
+      case (4)
+         largest = abs(a(1, 1))
+         p = 1
+         if (abs(a(2, 1)) > largest) then
+            largest = abs(a(2, 1))
+            p = 2
+         end if
+         if (abs(a(3, 1)) > largest) then
+            largest = abs(a(3, 1))
+            p = 3
+         end if
+         if (abs(a(4, 1)) > largest) p = 4
+         ipiv(1) = p
+         if (a(p, 1) == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            if (p /= 1) call interchange_rows(n, a, 1, p)
+            pivot = 1.0_dp/a(1, 1)
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+            a(2, 1) = a(2, 1)*pivot
+            a(3, 1) = a(3, 1)*pivot
+            a(4, 1) = a(4, 1)*pivot
+            factor = a(1, 2)
+            if (factor /= 0.0_dp) then
+               a(2, 2) = a(2, 2) - factor*a(2, 1)
+               a(3, 2) = a(3, 2) - factor*a(3, 1)
+               a(4, 2) = a(4, 2) - factor*a(4, 1)
+            end if
+            factor = a(1, 3)
+            if (factor /= 0.0_dp) then
+               a(2, 3) = a(2, 3) - factor*a(2, 1)
+               a(3, 3) = a(3, 3) - factor*a(3, 1)
+               a(4, 3) = a(4, 3) - factor*a(4, 1)
+            end if
+            factor = a(1, 4)
+            if (factor /= 0.0_dp) then
+               a(2, 4) = a(2, 4) - factor*a(2, 1)
+               a(3, 4) = a(3, 4) - factor*a(3, 1)
+               a(4, 4) = a(4, 4) - factor*a(4, 1)
+            end if
+         end if
+         largest = abs(a(2, 2))
+         p = 2
+         if (abs(a(3, 2)) > largest) then
+            largest = abs(a(3, 2))
+            p = 3
+         end if
+         if (abs(a(4, 2)) > largest) p = 4
+         ipiv(2) = p
+         if (a(p, 2) == 0.0_dp) then
+            if (info == 0) info = 2
+         else
+            if (p /= 2) call interchange_rows(n, a, 2, p)
+            pivot = 1.0_dp/a(2, 2)
+            if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
+            a(3, 2) = a(3, 2)*pivot
+            a(4, 2) = a(4, 2)*pivot
+            factor = a(2, 3)
+            if (factor /= 0.0_dp) then
+               a(3, 3) = a(3, 3) - factor*a(3, 2)
+               a(4, 3) = a(4, 3) - factor*a(4, 2)
+            end if
+            factor = a(2, 4)
+            if (factor /= 0.0_dp) then
+               a(3, 4) = a(3, 4) - factor*a(3, 2)
+               a(4, 4) = a(4, 4) - factor*a(4, 2)
+            end if
+         end if
+         largest = abs(a(3, 3))
+         p = 3
+         if (abs(a(4, 3)) > largest) p = 4
+         ipiv(3) = p
+         if (a(p, 3) == 0.0_dp) then
+            if (info == 0) info = 3
+         else
+            if (p /= 3) call interchange_rows(n, a, 3, p)
+            pivot = 1.0_dp/a(3, 3)
+            if (present(inverse_diagonal)) inverse_diagonal(3) = pivot
+            a(4, 3) = a(4, 3)*pivot
+            factor = a(3, 4)
+            if (factor /= 0.0_dp) a(4, 4) = a(4, 4) - factor*a(4, 3)
+         end if
+         ipiv(4) = 4
+         if (a(4, 4) == 0.0_dp) then
+            if (info == 0) info = 4
+         else
+            pivot = 1.0_dp/a(4, 4)
+            if (present(inverse_diagonal)) inverse_diagonal(4) = pivot
+         end if
+      end select
+   contains
+      !> Rows k and p of a interchanged
+      pure subroutine interchange_rows(n, a, k, p)
+         integer, intent(in) :: n, k, p
+         real(dp), intent(inout) :: a(n, n)
+         real(dp) :: swap
+         integer :: j
+         !GCC$ unroll 1
+         do j = 1, n
+            swap = a(k, j)
+            a(k, j) = a(p, j)
+            a(p, j) = swap
+         end do
+      end subroutine interchange_rows
+   end subroutine tiny_lu_factor_real
 
    !> Solve A x = b with the factors from `small_lu_factor` (or `lu_factor`).
    pure subroutine small_lu_solve_real(n, lu, ipiv, b, inverse_diagonal)
@@ -747,7 +956,8 @@ contains
       real(dp) :: swap, bk, br, bi, lr, li
 
       if (n <= 4) then
-         call tiny_lu_solve(n, a, a_pivots, x, a_inverse_diagonal)
+         ! (tiny_lu_solve through small_lu_solve_real: its one caller, into which it is inlined)
+         call small_lu_solve_real(n, a, a_pivots, x, a_inverse_diagonal)
          call tiny_complex_solve(n, c, c_pivots, c_inverse_diagonal, re, im)
          return
       end if
@@ -1048,6 +1258,10 @@ contains
       real(dp) :: largest
       complex(dp) :: pivot, swap, factor
 
+      if (n <= 4) then
+         call tiny_lu_factor_complex(n, a, ipiv, info, inverse_diagonal)
+         return
+      end if
       info = 0
       !GCC$ unroll 1
       do k = 1, n
@@ -1090,6 +1304,232 @@ contains
          end do
       end do
    end subroutine small_lu_factor_complex
+
+   !> `small_lu_factor_complex` for n <= 4, statement by statement (column k: the pivot,
+   !> the row interchange, the multipliers, the update of the columns right of it): the
+   !> same operations in the same order as its loops, so the same factors bit for bit.
+   pure subroutine tiny_lu_factor_complex(n, a, ipiv, info, inverse_diagonal)
+      !> Order, at most 4
+      integer, intent(in) :: n
+      !> Square matrix on entry, its LU factors on exit
+      complex(dp), intent(inout) :: a(n, n)
+      !> Pivot indices
+      integer, intent(out) :: ipiv(n)
+      !> 0 success, k > 0 singular (first zero pivot)
+      integer, intent(out) :: info
+      !> 1/U(k, k)
+      complex(dp), intent(out), optional :: inverse_diagonal(n)
+      integer :: p
+      real(dp) :: largest
+      complex(dp) :: pivot, factor
+      info = 0
+      select case (n)
+      case (1)
+         largest = abs(a(1, 1)%re) + abs(a(1, 1)%im)
+         ipiv(1) = 1
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            pivot = reciprocal(a(1, 1))
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+         end if
+      case (2)
+         largest = abs(a(1, 1)%re) + abs(a(1, 1)%im)
+         p = 1
+         if (abs(a(2, 1)%re) + abs(a(2, 1)%im) > largest) then
+            largest = abs(a(2, 1)%re) + abs(a(2, 1)%im)
+            p = 2
+         end if
+         ipiv(1) = p
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            if (p /= 1) call interchange_rows(n, a, 1, p)
+            pivot = reciprocal(a(1, 1))
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+            a(2, 1) = a(2, 1)*pivot
+            factor = a(1, 2)
+            if (factor /= (0.0_dp, 0.0_dp)) a(2, 2) = a(2, 2) - factor*a(2, 1)
+         end if
+         largest = abs(a(2, 2)%re) + abs(a(2, 2)%im)
+         ipiv(2) = 2
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 2
+         else
+            pivot = reciprocal(a(2, 2))
+            if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
+         end if
+      case (3)
+         largest = abs(a(1, 1)%re) + abs(a(1, 1)%im)
+         p = 1
+         if (abs(a(2, 1)%re) + abs(a(2, 1)%im) > largest) then
+            largest = abs(a(2, 1)%re) + abs(a(2, 1)%im)
+            p = 2
+         end if
+         if (abs(a(3, 1)%re) + abs(a(3, 1)%im) > largest) then
+            largest = abs(a(3, 1)%re) + abs(a(3, 1)%im)
+            p = 3
+         end if
+         ipiv(1) = p
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            if (p /= 1) call interchange_rows(n, a, 1, p)
+            pivot = reciprocal(a(1, 1))
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+            a(2, 1) = a(2, 1)*pivot
+            a(3, 1) = a(3, 1)*pivot
+            factor = a(1, 2)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(2, 2) = a(2, 2) - factor*a(2, 1)
+               a(3, 2) = a(3, 2) - factor*a(3, 1)
+            end if
+            factor = a(1, 3)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(2, 3) = a(2, 3) - factor*a(2, 1)
+               a(3, 3) = a(3, 3) - factor*a(3, 1)
+            end if
+         end if
+         largest = abs(a(2, 2)%re) + abs(a(2, 2)%im)
+         p = 2
+         if (abs(a(3, 2)%re) + abs(a(3, 2)%im) > largest) then
+            largest = abs(a(3, 2)%re) + abs(a(3, 2)%im)
+            p = 3
+         end if
+         ipiv(2) = p
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 2
+         else
+            if (p /= 2) call interchange_rows(n, a, 2, p)
+            pivot = reciprocal(a(2, 2))
+            if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
+            a(3, 2) = a(3, 2)*pivot
+            factor = a(2, 3)
+            if (factor /= (0.0_dp, 0.0_dp)) a(3, 3) = a(3, 3) - factor*a(3, 2)
+         end if
+         largest = abs(a(3, 3)%re) + abs(a(3, 3)%im)
+         ipiv(3) = 3
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 3
+         else
+            pivot = reciprocal(a(3, 3))
+            if (present(inverse_diagonal)) inverse_diagonal(3) = pivot
+         end if
+      case (4)
+         largest = abs(a(1, 1)%re) + abs(a(1, 1)%im)
+         p = 1
+         if (abs(a(2, 1)%re) + abs(a(2, 1)%im) > largest) then
+            largest = abs(a(2, 1)%re) + abs(a(2, 1)%im)
+            p = 2
+         end if
+         if (abs(a(3, 1)%re) + abs(a(3, 1)%im) > largest) then
+            largest = abs(a(3, 1)%re) + abs(a(3, 1)%im)
+            p = 3
+         end if
+         if (abs(a(4, 1)%re) + abs(a(4, 1)%im) > largest) then
+            largest = abs(a(4, 1)%re) + abs(a(4, 1)%im)
+            p = 4
+         end if
+         ipiv(1) = p
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 1
+         else
+            if (p /= 1) call interchange_rows(n, a, 1, p)
+            pivot = reciprocal(a(1, 1))
+            if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
+            a(2, 1) = a(2, 1)*pivot
+            a(3, 1) = a(3, 1)*pivot
+            a(4, 1) = a(4, 1)*pivot
+            factor = a(1, 2)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(2, 2) = a(2, 2) - factor*a(2, 1)
+               a(3, 2) = a(3, 2) - factor*a(3, 1)
+               a(4, 2) = a(4, 2) - factor*a(4, 1)
+            end if
+            factor = a(1, 3)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(2, 3) = a(2, 3) - factor*a(2, 1)
+               a(3, 3) = a(3, 3) - factor*a(3, 1)
+               a(4, 3) = a(4, 3) - factor*a(4, 1)
+            end if
+            factor = a(1, 4)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(2, 4) = a(2, 4) - factor*a(2, 1)
+               a(3, 4) = a(3, 4) - factor*a(3, 1)
+               a(4, 4) = a(4, 4) - factor*a(4, 1)
+            end if
+         end if
+         largest = abs(a(2, 2)%re) + abs(a(2, 2)%im)
+         p = 2
+         if (abs(a(3, 2)%re) + abs(a(3, 2)%im) > largest) then
+            largest = abs(a(3, 2)%re) + abs(a(3, 2)%im)
+            p = 3
+         end if
+         if (abs(a(4, 2)%re) + abs(a(4, 2)%im) > largest) then
+            largest = abs(a(4, 2)%re) + abs(a(4, 2)%im)
+            p = 4
+         end if
+         ipiv(2) = p
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 2
+         else
+            if (p /= 2) call interchange_rows(n, a, 2, p)
+            pivot = reciprocal(a(2, 2))
+            if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
+            a(3, 2) = a(3, 2)*pivot
+            a(4, 2) = a(4, 2)*pivot
+            factor = a(2, 3)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(3, 3) = a(3, 3) - factor*a(3, 2)
+               a(4, 3) = a(4, 3) - factor*a(4, 2)
+            end if
+            factor = a(2, 4)
+            if (factor /= (0.0_dp, 0.0_dp)) then
+               a(3, 4) = a(3, 4) - factor*a(3, 2)
+               a(4, 4) = a(4, 4) - factor*a(4, 2)
+            end if
+         end if
+         largest = abs(a(3, 3)%re) + abs(a(3, 3)%im)
+         p = 3
+         if (abs(a(4, 3)%re) + abs(a(4, 3)%im) > largest) then
+            largest = abs(a(4, 3)%re) + abs(a(4, 3)%im)
+            p = 4
+         end if
+         ipiv(3) = p
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 3
+         else
+            if (p /= 3) call interchange_rows(n, a, 3, p)
+            pivot = reciprocal(a(3, 3))
+            if (present(inverse_diagonal)) inverse_diagonal(3) = pivot
+            a(4, 3) = a(4, 3)*pivot
+            factor = a(3, 4)
+            if (factor /= (0.0_dp, 0.0_dp)) a(4, 4) = a(4, 4) - factor*a(4, 3)
+         end if
+         largest = abs(a(4, 4)%re) + abs(a(4, 4)%im)
+         ipiv(4) = 4
+         if (largest == 0.0_dp) then
+            if (info == 0) info = 4
+         else
+            pivot = reciprocal(a(4, 4))
+            if (present(inverse_diagonal)) inverse_diagonal(4) = pivot
+         end if
+      end select
+   contains
+      !> Rows k and p of a interchanged
+      pure subroutine interchange_rows(n, a, k, p)
+         integer, intent(in) :: n, k, p
+         complex(dp), intent(inout) :: a(n, n)
+         complex(dp) :: swap
+         integer :: j
+         !GCC$ unroll 1
+         do j = 1, n
+            swap = a(k, j)
+            a(k, j) = a(p, j)
+            a(p, j) = swap
+         end do
+      end subroutine interchange_rows
+   end subroutine tiny_lu_factor_complex
 
    !> 1/z for a nonzero z, scaled by the larger part so that neither squaring
    !> overflows nor underflows (the compiler's complex division is a library call).
