@@ -410,7 +410,8 @@ contains
    !> 1), J dense with M dense (MLMAS = N), J dense with M banded. At RTOL = ATOL = 1e-6
    !> (RADAU5's meaning: 1.0e-5 inside) every one is within 2 RTOL of the published
    !> solution at t = 0.2 (measured: 0.23 banded, 0.63 dense, in 1317 to 1323 attempts;
-   !> RADAU5's transformation aims at an error of about RTOL). A mass matrix with another
+   !> RADAU5's transformation aims at an error of about RTOL; a dense M's products over a
+   !> row range one short of its entries make Newton fail). A mass matrix with another
    !> scheme, or with bands beyond the Jacobian's, is IDID = -1.
    subroutine test_mass_transistor_amplifier(error)
       type(error_type), allocatable, intent(out) :: error

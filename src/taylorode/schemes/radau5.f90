@@ -80,7 +80,7 @@ module taylorode_schemes_radau5
    use taylorode_base_status, only: status_type, set_code, status_ok, status_singular_matrix, &
       status_evaluation_failed, status_nonfinite, &
       status_newton_diverged, status_newton_not_converged
-   use taylorode_base_memory, only: sized
+   use taylorode_base_memory, only: sized, out_of_memory, integer_bytes
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver, finite_diagonal
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
@@ -157,6 +157,10 @@ module taylorode_schemes_radau5
       type(complex_solver_type) :: complex_solver
       !> The problem's constant mass matrix M (with `with_mass`), in the Jacobian's storage
       class(matrix_type), allocatable :: mass
+      !> For a dense M, the first and last row of each column that hold entries (found
+      !> once M is loaded): its products skip the rows outside them, whose zeros add
+      !> nothing (a differential-algebraic system's M is mostly zeros, often a band)
+      integer, allocatable :: mass_rows(:, :)
       !> M times the transformed stage increments W (with a mass matrix)
       real(dp), allocatable :: mw(:, :)
       !> Whether the problem has a mass matrix, and whether M has been asked for since
@@ -354,6 +358,7 @@ contains
       type(status_type), intent(inout) :: stat
       character(len=*), parameter :: what = "radau5's stages and work arrays"
       logical :: resized
+      integer :: memory
       resized = self%resize(problem, n, stat)
       if (stat%code /= status_ok) return
       if (resized) then
@@ -395,6 +400,11 @@ contains
       if (self%with_mass .and. .not. allocated(self%mass)) then
          call new_matrix(self%mass, n, self%structure, stat)
          if (stat%code == status_ok) call sized(self%mw, n, 3, what, stat)
+         if (stat%code == status_ok .and. self%structure%storage == storage_dense) then
+            if (allocated(self%mass_rows)) deallocate (self%mass_rows)
+            allocate (self%mass_rows(2, n), stat=memory)
+            if (memory /= 0) call out_of_memory(stat, "the rows of the mass matrix", [2, n], integer_bytes)
+         end if
          if (stat%code /= status_ok) then
             if (allocated(self%mass)) deallocate (self%mass)
             self%n = 0
@@ -403,19 +413,75 @@ contains
       end if
    end subroutine radau_prepare
 
-   !> M from the problem, in the storage of its Jacobian structure (once per integration).
+   !> M from the problem, in the storage of its Jacobian structure (once per integration),
+   !> and for a dense M the rows of each column that hold entries.
    subroutine load_mass(self, problem)
       type(radau5_type), intent(inout) :: self
       class(ode_problem), intent(inout) :: problem
+      integer :: i, j, first, last
       select type (mass => self%mass)
       type is (dense_matrix_type)
          call problem%mass_matrix(mass%a)
+         do j = 1, self%n
+            first = 0
+            last = 0
+            do i = 1, self%n
+               if (mass%a(i, j) /= 0.0_dp) then
+                  if (first == 0) first = i
+                  last = i
+               end if
+            end do
+            ! (an empty column: rows 1 to 0)
+            self%mass_rows(:, j) = [max(first, 1), last]
+         end do
       type is (band_matrix_type)
          call problem%mass_matrix_band(mass%ab(mass%fill + 1:, :))
       end select
       self%mass_loaded = .true.
       self%factored = .false.
    end subroutine load_mass
+
+   !> y = y + M x for each column of x and y (one, or the three stages'): a dense M over
+   !> the rows of each of its columns that hold entries, all columns of x in one pass
+   !> (the same sums as the whole columns': the products of its zeros add exact zeros),
+   !> a band M over its band, column by column.
+   subroutine add_mass_product(self, m, x, y)
+      type(radau5_type), intent(in) :: self
+      !> Columns of x and y
+      integer, intent(in) :: m
+      real(dp), intent(in) :: x(self%n, m)
+      real(dp), intent(inout) :: y(self%n, m)
+      integer :: s
+      select type (mass => self%mass)
+      type is (dense_matrix_type)
+         call add_columns_product(self%n, m, mass%a, self%mass_rows, x, y)
+      class default
+         do s = 1, m
+            call self%mass%multiply_add(1.0_dp, x(:, s), y(:, s))
+         end do
+      end select
+   end subroutine add_mass_product
+
+   !> y = y + A x over rows(1, j) to rows(2, j) of each column j of A, for the m columns of
+   !> x and y at once.
+   pure subroutine add_columns_product(n, m, a, rows, x, y)
+      integer, intent(in) :: n, m, rows(2, n)
+      real(dp), intent(in) :: a(n, n), x(n, m)
+      real(dp), intent(inout) :: y(n, m)
+      integer :: i, j, s
+      real(dp) :: entry
+      !GCC$ unroll 1
+      do j = 1, n
+         !GCC$ unroll 1
+         do i = rows(1, j), rows(2, j)
+            entry = a(i, j)
+            !GCC$ unroll 1
+            do s = 1, m
+               y(i, s) = y(i, s) + x(j, s)*entry
+            end do
+         end do
+      end do
+   end subroutine add_columns_product
 
    subroutine radau_advance(self, problem, t, h, u0, u1, newton, stat, delta, guess)
       class(radau5_type), intent(inout) :: self
@@ -811,10 +877,8 @@ contains
             return
          end if
          if (self%with_mass) then
-            do s = 1, 3
-               self%mw(:, s) = 0.0_dp
-               call self%mass%multiply_add(1.0_dp, w(:, s), self%mw(:, s))
-            end do
+            self%mw = 0.0_dp
+            call add_mass_product(self, 3, w, self%mw)
          end if
          call newton_right_hand_sides(n, fac1, alphn, betan, wm, r, magnitude)
          if (.not. ieee_is_finite(magnitude)) then
@@ -935,7 +999,7 @@ contains
                self%stage(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
                stage_part(i) = 0.0_dp
             end do
-            call self%mass%multiply_add(1.0_dp, self%stage, stage_part)
+            call add_mass_product(self, 1, self%stage, stage_part)
          else
             !GCC$ unroll 1
             do i = 1, self%n
