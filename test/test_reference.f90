@@ -3,7 +3,7 @@
 module test_reference
    use testdrive, only: new_unittest, unittest_type, error_type, check
    use taylorode_base_strings, only: format_real
-   use test_support, only: stat_message
+   use test_support, only: stat_message, dense_amplifier_type
    use taylorode, only: dp, i8, scheme_type, status_type, new_scheme, integrate, integrate_fixed, &
       integrator_options_type, integration_stats_type, status_ok, status_max_steps, controller_auto, &
       controller_predictive, controller_i, step_history_type, attempt_failed_newton, scheme_names
@@ -27,12 +27,6 @@ module test_reference
    contains
       procedure :: jacobian_structure => dense_brusselator_structure
    end type dense_brusselator_type
-
-   !> The transistor amplifier declaring a dense Jacobian: its J and M then come dense
-   type, extends(transistor_amplifier_type) :: dense_amplifier_type
-   contains
-      procedure :: jacobian_structure => dense_amplifier_structure
-   end type dense_amplifier_type
 
    !> Schemes whose stiff part is L-stable
    character(len=*), parameter :: l_stable(4) = ["si-t-1", "si-t-2", "i-t-1 ", "i-t-2 "]
@@ -261,13 +255,6 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_radau_transistor_amplifier
-
-   function dense_amplifier_structure(self, n) result(structure)
-      class(dense_amplifier_type), intent(in) :: self
-      integer, intent(in) :: n
-      type(matrix_structure_type) :: structure
-      structure = dense_structure()
-   end function dense_amplifier_structure
 
    !> radau5 on a problem of the test set from its t0 to its t_end, restarted at
    !> t_restart when given (where the right-hand side jumps).

@@ -2,7 +2,9 @@
 !> failed before the fix it guards (see the reliability issue's list).
 module test_robustness
    use testdrive, only: new_unittest, unittest_type, error_type, check, skip_test
-   use test_support, only: differenced_brusselator, scratch, run_type, run_app, run_command, read_lines, line_type, has_line, &
+   use test_support, only: differenced_brusselator, dense_amplifier_type, dense_akzo_type, scratch, run_type, &
+      run_app, run_command, &
+      read_lines, line_type, has_line, &
       file_exists, fresh_scratch, app_path, stat_message, c_create, c_free, c_set_option, c_set_bandwidths, message_of, &
       legacy_no_jacobian
    use taylorode, only: dp, i8, ode_problem, ode_problem_fd, scheme_type, new_scheme, integrate, status_type, &
@@ -10,7 +12,9 @@ module test_robustness
       status_invalid_argument, status_nonfinite, status_output_error, status_max_steps, &
       status_evaluation_failed, status_newton_not_converged, status_newton_diverged, matrix_structure_type, &
       band_structure, dense_structure, integrator_type, integrate_fixed, status_step_underflow
-   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator
+   use taylorode_testset, only: van_der_pol_type, new_van_der_pol, brusselator_type, new_brusselator, &
+      transistor_amplifier_type, new_transistor_amplifier, pollution_type, new_pollution, test_problem_type, &
+      new_medical_akzo
    use taylorode_base_strings, only: format_real, fixed_length_real, format_integer
    use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass, jac_interface
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite
@@ -836,8 +840,12 @@ contains
 
    !> (11) The heap allocations of an integration do not grow with its number of steps:
    !> every scheme, finite-difference Jacobians (dense and grouped band, also of a state
-   !> that is not contiguous, which the differences must not copy) and failed attempts
-   !> included. Compared: [0, 3] against [0, 30] (far more steps).
+   !> that is not contiguous, which the differences must not copy), radau5 with a mass
+   !> matrix (band, and dense: its products over the rows that hold entries), test-set
+   !> problems whose own evaluations once allocated (the pollution problem's F and J,
+   !> the amplifier's and MEDAKZO's Jacobians asked for dense) and failed attempts
+   !> included. Compared: [0, 3] against [0, 30] (far more steps; the amplifier [0,
+   !> 0.001] against [0, 0.05], the others as noted).
    subroutine test_no_allocation_per_step(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(7) = [character(len=12) :: "ex-t-2", "si-t-1", "si-t-2", &
@@ -845,6 +853,10 @@ contains
       type(van_der_pol_type) :: problem
       type(vdp_differences_type) :: differences
       type(differenced_brusselator) :: band
+      type(transistor_amplifier_type) :: amplifier
+      type(dense_amplifier_type) :: dense_amplifier
+      type(pollution_type) :: pollution
+      type(dense_akzo_type) :: dense_akzo
       type(integrator_options_type) :: options
       integer :: k
 
@@ -875,6 +887,20 @@ contains
       if (allocated(error)) return
       call compare_runs(band, "i-t-2", options, 0.02_dp, 2.0_dp, "grouped band differences, strided state", &
          strided=.true.)
+      if (allocated(error)) return
+      amplifier = new_transistor_amplifier()
+      call compare_runs(amplifier, "radau5", options, 0.001_dp, 0.05_dp, "band mass matrix")
+      if (allocated(error)) return
+      dense_amplifier%transistor_amplifier_type = amplifier
+      call compare_runs(dense_amplifier, "radau5", options, 0.001_dp, 0.05_dp, "dense mass matrix")
+      if (allocated(error)) return
+      pollution = new_pollution()
+      call compare_runs(pollution, "radau5", options, 0.01_dp, 60.0_dp, "pollution, radau5")
+      if (allocated(error)) return
+      call compare_runs(pollution, "si-t-2", options, 0.01_dp, 60.0_dp, "pollution, si-t-2")
+      if (allocated(error)) return
+      dense_akzo%medical_akzo_type = new_medical_akzo(10)
+      call compare_runs(dense_akzo, "radau5", options, 0.1_dp, 10.0_dp, "MEDAKZO, dense")
       if (allocated(error)) return
       options%max_newton_iterations = 2
       call compare_runs(problem, "i-t-2", options, 3.0_dp, 30.0_dp, "failed attempts", failures=.true.)
@@ -923,6 +949,10 @@ contains
          select type (model)
          type is (differenced_brusselator)
             u0 = model%model%u0
+         type is (van_der_pol_type)
+            u0 = [2.0_dp, 0.0_dp]
+         class is (test_problem_type)
+            u0 = model%u0
          class default
             u0 = [2.0_dp, 0.0_dp]
          end select

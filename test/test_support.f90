@@ -2,12 +2,13 @@
 !> formatting, and the C and legacy interfaces as their callers see them.
 module test_support
    use taylorode, only: dp, ode_problem, status_type, matrix_structure_type
-   use taylorode_testset, only: brusselator_type
+   use taylorode_linalg_matrix, only: dense_structure
+   use taylorode_testset, only: brusselator_type, transistor_amplifier_type, medical_akzo_type
    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_ptr, c_funptr, c_null_char, c_f_pointer
    implicit none
    private
 
-   public :: rk4_reference, stat_message, differenced_brusselator
+   public :: rk4_reference, stat_message, differenced_brusselator, dense_amplifier_type, dense_akzo_type
    public :: scratch, line_type, run_type, run_app, read_lines, has_line, count_separators, file_exists, &
       fresh_scratch, app_path, run_command
    public :: c_create, c_free, c_set_option, c_set_functions, c_set_bandwidths, c_set_tolerance_vectors, c_integrate, &
@@ -24,6 +25,18 @@ module test_support
       procedure :: jac_g => differenced_jac_g
       procedure :: jacobian_structure => differenced_structure
    end type differenced_brusselator
+
+   !> The transistor amplifier declaring a dense Jacobian: its J and M then come dense
+   type, extends(transistor_amplifier_type) :: dense_amplifier_type
+   contains
+      procedure :: jacobian_structure => dense_amplifier_structure
+   end type dense_amplifier_type
+
+   !> MEDAKZO declaring a dense Jacobian: its J then comes dense (from its band)
+   type, extends(medical_akzo_type) :: dense_akzo_type
+   contains
+      procedure :: jacobian_structure => dense_akzo_structure
+   end type dense_akzo_type
 
    interface
       !> The C interface, called as C would (include/taylorode.h)
@@ -251,6 +264,20 @@ contains
       type(matrix_structure_type) :: structure
       structure = self%model%jacobian_structure(n)
    end function differenced_structure
+
+   function dense_amplifier_structure(self, n) result(structure)
+      class(dense_amplifier_type), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      structure = dense_structure()
+   end function dense_amplifier_structure
+
+   function dense_akzo_structure(self, n) result(structure)
+      class(dense_akzo_type), intent(in) :: self
+      integer, intent(in) :: n
+      type(matrix_structure_type) :: structure
+      structure = dense_structure()
+   end function dense_akzo_structure
 
    !> The text taylorode_message returns.
    function message_of(ode) result(text)

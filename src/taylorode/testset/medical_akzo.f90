@@ -39,6 +39,9 @@ module taylorode_testset_medical_akzo
       real(dp) :: boundary_value = 2.0_dp
       !> Time at which the boundary value drops to 0
       real(dp) :: switch_time = 5.0_dp
+      !> The band of a Jacobian asked for dense (allocated at the first such request: a
+      !> local array of this size would be allocated at every call)
+      real(dp), allocatable :: band_work(:, :)
    contains
       !> Non-stiff part f: the reaction
       procedure :: f => akzo_f
@@ -170,9 +173,9 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      real(dp) :: band(lower + upper + 1, size(u))
-      call self%jac_f_band(t, u, band)
-      call unpack_band(band, jac)
+      call size_band_work(self, size(u))
+      call self%jac_f_band(t, u, self%band_work)
+      call unpack_band(self%band_work, jac)
    end subroutine akzo_jac_f
 
    subroutine akzo_jac_g(self, t, u, jac)
@@ -180,10 +183,21 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      real(dp) :: band(lower + upper + 1, size(u))
-      call self%jac_g_band(t, u, band)
-      call unpack_band(band, jac)
+      call size_band_work(self, size(u))
+      call self%jac_g_band(t, u, self%band_work)
+      call unpack_band(self%band_work, jac)
    end subroutine akzo_jac_g
+
+   !> band_work of n columns (allocated once for a problem size).
+   pure subroutine size_band_work(self, n)
+      class(medical_akzo_type), intent(inout) :: self
+      integer, intent(in) :: n
+      if (allocated(self%band_work)) then
+         if (size(self%band_work, 2) == n) return
+         deallocate (self%band_work)
+      end if
+      allocate (self%band_work(lower + upper + 1, n))
+   end subroutine size_band_work
 
    !> The dense matrix of a band in LAPACK storage: jac(i, j) = band(diagonal + i - j, j).
    pure subroutine unpack_band(band, jac)

@@ -10,6 +10,8 @@ module taylorode_testset_pollution
 
    !> Number of reactions of the mechanism
    integer, parameter :: reaction_count = 25
+   !> Species (unknowns)
+   integer, parameter :: species = 20
    !> Rate constants k1 ... k25 (per minute, or per ppm per minute for the reactions
    !> of two species), as published
    real(dp), parameter :: rate_constants(reaction_count) = [0.35_dp, 26.6_dp, 1.23e4_dp, 8.6e-4_dp, &
@@ -67,7 +69,7 @@ contains
       self%name = "pollution"
       self%autonomous = .true.
       self%t_end = 60.0_dp
-      allocate (self%u0(20), source=0.0_dp)
+      allocate (self%u0(species), source=0.0_dp)
       self%u0([2, 4, 7, 8, 9, 17]) = [0.2_dp, 0.04_dp, 0.1_dp, 0.3_dp, 0.01_dp, 0.007_dp]
       self%rtol = 1.0e-6_dp
       self%atol = 1.0e-6_dp
@@ -106,7 +108,8 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: dudt(:)
-      real(dp) :: rates(reaction_count), fast_part(size(u))
+      ! (of fixed size: a local array of size(u) would be allocated at every call)
+      real(dp) :: rates(reaction_count), fast_part(species)
       rates = reaction_rates(u)
       call balance(rates, .false., dudt)
       call balance(rates, .true., fast_part)
@@ -135,7 +138,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      real(dp) :: fast_part(size(u), size(u))
+      real(dp) :: fast_part(species, species)
       call balance_jacobian(u, .false., jac)
       call balance_jacobian(u, .true., fast_part)
       jac = jac + fast_part

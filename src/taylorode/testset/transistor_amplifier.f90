@@ -15,6 +15,8 @@ module taylorode_testset_transistor_amplifier
    integer, parameter :: lower = 2, upper = 1
    !> Row of the diagonal in band storage
    integer, parameter :: diagonal = upper + 1
+   !> Unknowns
+   integer, parameter :: unknowns = 8
    !> The circuit's data: operating voltage Ub, the transistors' UF, alpha and beta, the
    !> resistors R0 and R1 = ... = R9, and the capacitors C_k = k 1e-6
    real(dp), parameter :: ub = 6.0_dp, uf = 0.026_dp, alpha = 0.99_dp, beta = 1.0e-6_dp
@@ -152,7 +154,8 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      real(dp) :: band(lower + upper + 1, size(u))
+      ! (of fixed size: a local array of size(u) would be allocated at every call)
+      real(dp) :: band(lower + upper + 1, unknowns)
       integer :: i, j
       call self%jac_g_band(t, u, band)
       jac = 0.0_dp
@@ -210,7 +213,7 @@ contains
    subroutine amplifier_mass(self, m)
       class(transistor_amplifier_type), intent(inout) :: self
       real(dp), intent(out) :: m(:, :)
-      real(dp) :: band(lower + upper + 1, size(m, 2))
+      real(dp) :: band(lower + upper + 1, unknowns)
       integer :: i, j
       call self%mass_matrix_band(band)
       m = 0.0_dp
