@@ -844,8 +844,9 @@ contains
    !> that is not contiguous, which the differences must not copy), radau5 with a mass
    !> matrix (band, and dense: its products over the rows that hold entries), the
    !> amplifier's and MEDAKZO's Jacobians asked for dense (a local band of size(u) per
-   !> call before) and failed attempts included (the test set as it comes: the next
-   !> test). Compared: [0, 3] against [0, 30] (far more steps; the amplifier [0, 0.001]
+   !> call before), every scheme with dense output at 200 times (the implicit Taylor
+   !> schemes' interpolant through the last states allocated at every step before) and
+   !> failed attempts included (the test set as it comes: the next test). Compared: [0, 3] against [0, 30] (far more steps; the amplifier [0, 0.001]
    !> against [0, 0.05], the others as noted).
    subroutine test_no_allocation_per_step(error)
       type(error_type), allocatable, intent(out) :: error
@@ -868,6 +869,9 @@ contains
       options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp)
       do k = 1, size(names)
          call compare_runs(problem, trim(names(k)), options, 3.0_dp, 30.0_dp, trim(names(k)))
+         if (allocated(error)) return
+         call compare_runs(problem, trim(names(k)), options, 3.0_dp, 30.0_dp, trim(names(k))//", dense output", &
+            dense_output=.true.)
          if (allocated(error)) return
       end do
       call compare_runs(differences, "i-t-2", options, 3.0_dp, 30.0_dp, "dense differences")
@@ -926,21 +930,23 @@ contains
          if (allocated(error)) return
          call check(error, int(long_run), int(short_run), label//": allocations grow with the steps")
       end subroutine compare_legacy_runs
-      !> With `strided`, the state is every other entry of an array of twice its size.
-      subroutine compare_runs(model, name, options, short_end, long_end, label, failures, strided)
+      !> With `strided`, the state is every other entry of an array of twice its size; with
+      !> `dense_output`, the solution is asked for at 200 times spread over the span.
+      subroutine compare_runs(model, name, options, short_end, long_end, label, failures, strided, dense_output)
          class(ode_problem), intent(inout) :: model
          character(len=*), intent(in) :: name, label
          type(integrator_options_type), intent(in) :: options
          real(dp), intent(in) :: short_end, long_end
-         logical, intent(in), optional :: failures, strided
+         logical, intent(in), optional :: failures, strided, dense_output
          class(scheme_type), allocatable :: scheme
          type(integration_stats_type) :: short_stats, long_stats, stats(3)
          type(status_type) :: stat
          real(dp), allocatable :: u0(:), u(:), storage(:)
-         real(dp) :: ends(3)
+         real(dp) :: ends(3), t_out(200)
+         real(dp), allocatable :: u_out(:, :)
          integer(c_long_long) :: before, short_run, long_run, runs(3)
-         integer :: k
-         logical :: every_other
+         integer :: k, i
+         logical :: every_other, outputs
          select type (model)
          type is (differenced_brusselator)
             u0 = model%model%u0
@@ -953,6 +959,9 @@ contains
          end select
          every_other = .false.
          if (present(strided)) every_other = strided
+         outputs = .false.
+         if (present(dense_output)) outputs = dense_output
+         allocate (u_out(size(u0), size(t_out)))
          call new_scheme(name, scheme, stat)
          allocate (storage(2*size(u0)))
          u = u0
@@ -961,8 +970,11 @@ contains
          do k = 1, 3
             u = u0
             storage(1::2) = u0
+            t_out = [(ends(k)*i/real(size(t_out), dp), i=1, size(t_out))]
             before = allocation_count()
-            if (every_other) then
+            if (outputs) then
+               call integrate(model, scheme, 0.0_dp, ends(k), u, options, stats(k), stat, t_out=t_out, u_out=u_out)
+            else if (every_other) then
                call integrate(model, scheme, 0.0_dp, ends(k), storage(1::2), options, stats(k), stat)
             else
                call integrate(model, scheme, 0.0_dp, ends(k), u, options, stats(k), stat)

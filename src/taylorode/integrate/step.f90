@@ -143,9 +143,18 @@ contains
          self%nodes(1:2) = [0.0_dp, 0.0_dp]
          self%points(0:2) = [0.0_dp, 0.0_dp, 1.0_dp]
       else
-         ! Newton form over the points 0, 1, theta(1), theta(2)
-         self%nodes(1:self%degree) = [0.0_dp, 1.0_dp, theta(1)]
-         self%points(0:self%degree) = [0.0_dp, 1.0_dp, theta(1:before)]
+         ! Newton form over the points 0, 1, theta(1), theta(2): its nodes 0, 1 (and theta(1)
+         ! for the cubic); entry by entry, as an array constructor of the points' variable
+         ! length went through a temporary allocated at every step
+         self%nodes(1) = 0.0_dp
+         self%nodes(2) = 1.0_dp
+         self%points(0) = 0.0_dp
+         self%points(1) = 1.0_dp
+         self%points(2) = theta(1)
+         if (before == 2) then
+            self%nodes(3) = theta(1)
+            self%points(3) = theta(2)
+         end if
       end if
       do i = 1, size(self%u_start)
          secant = self%u_end(i) - self%u_start(i)
