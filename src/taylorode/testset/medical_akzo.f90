@@ -2,6 +2,8 @@
 !> a reaction-diffusion PDE by the method of lines (Bari test set MEDAKZO), banded.
 module taylorode_testset_medical_akzo
    use taylorode_base_kinds, only: dp
+   use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_memory, only: sized
    use taylorode_testset_test_problem, only: test_problem_type
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
    implicit none
@@ -173,7 +175,10 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      call size_band_work(self, size(u))
+      if (.not. band_work_ready(self, size(u))) then
+         jac = 0.0_dp
+         return
+      end if
       call self%jac_f_band(t, u, self%band_work)
       call unpack_band(self%band_work, jac)
    end subroutine akzo_jac_f
@@ -183,21 +188,25 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      call size_band_work(self, size(u))
+      if (.not. band_work_ready(self, size(u))) then
+         jac = 0.0_dp
+         return
+      end if
       call self%jac_g_band(t, u, self%band_work)
       call unpack_band(self%band_work, jac)
    end subroutine akzo_jac_g
 
-   !> band_work of n columns (allocated once for a problem size).
-   pure subroutine size_band_work(self, n)
+   !> Whether band_work has n columns (allocated once for a problem size); when it
+   !> cannot be allocated, the evaluation is rejected fatally (the integration stops
+   !> with a status) and the result is false.
+   logical function band_work_ready(self, n)
       class(medical_akzo_type), intent(inout) :: self
       integer, intent(in) :: n
-      if (allocated(self%band_work)) then
-         if (size(self%band_work, 2) == n) return
-         deallocate (self%band_work)
-      end if
-      allocate (self%band_work(lower + upper + 1, n))
-   end subroutine size_band_work
+      type(status_type) :: stat
+      call sized(self%band_work, lower + upper + 1, n, "MEDAKZO's band Jacobian", stat)
+      band_work_ready = stat%code == status_ok
+      if (.not. band_work_ready) call self%reject_evaluation(fatal=.true.)
+   end function band_work_ready
 
    !> The dense matrix of a band in LAPACK storage: jac(i, j) = band(diagonal + i - j, j).
    pure subroutine unpack_band(band, jac)
