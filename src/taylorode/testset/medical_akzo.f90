@@ -4,7 +4,7 @@ module taylorode_testset_medical_akzo
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, status_ok
    use taylorode_base_memory, only: sized
-   use taylorode_testset_test_problem, only: test_problem_type
+   use taylorode_testset_test_problem, only: test_problem_type, unpack_band
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
    implicit none
    private
@@ -175,12 +175,9 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      if (.not. band_work_ready(self, size(u))) then
-         jac = 0.0_dp
-         return
-      end if
+      if (.not. band_work_ready(self, size(u), jac)) return
       call self%jac_f_band(t, u, self%band_work)
-      call unpack_band(self%band_work, jac)
+      call unpack_band(lower, upper, self%band_work, jac)
    end subroutine akzo_jac_f
 
    subroutine akzo_jac_g(self, t, u, jac)
@@ -188,39 +185,25 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(in) :: u(:)
       real(dp), intent(out) :: jac(:, :)
-      if (.not. band_work_ready(self, size(u))) then
-         jac = 0.0_dp
-         return
-      end if
+      if (.not. band_work_ready(self, size(u), jac)) return
       call self%jac_g_band(t, u, self%band_work)
-      call unpack_band(self%band_work, jac)
+      call unpack_band(lower, upper, self%band_work, jac)
    end subroutine akzo_jac_g
 
    !> Whether band_work has n columns (allocated once for a problem size); when it
    !> cannot be allocated, the evaluation is rejected fatally (the integration stops
-   !> with a status) and the result is false.
-   logical function band_work_ready(self, n)
+   !> with a status), jac is zeroed and the result is false.
+   logical function band_work_ready(self, n, jac)
       class(medical_akzo_type), intent(inout) :: self
       integer, intent(in) :: n
+      real(dp), intent(out) :: jac(:, :)
       type(status_type) :: stat
       call sized(self%band_work, lower + upper + 1, n, "MEDAKZO's band Jacobian", stat)
       band_work_ready = stat%code == status_ok
-      if (.not. band_work_ready) call self%reject_evaluation(fatal=.true.)
-   end function band_work_ready
-
-   !> The dense matrix of a band in LAPACK storage: jac(i, j) = band(diagonal + i - j, j).
-   pure subroutine unpack_band(band, jac)
-      real(dp), intent(in) :: band(:, :)
-      real(dp), intent(out) :: jac(:, :)
-      integer :: i, j, n
-      n = size(jac, 2)
+      if (band_work_ready) return
+      call self%reject_evaluation(fatal=.true.)
       jac = 0.0_dp
-      do j = 1, n
-         do i = max(1, j - upper), min(n, j + lower)
-            jac(i, j) = band(diagonal + i - j, j)
-         end do
-      end do
-   end subroutine unpack_band
+   end function band_work_ready
 
    !> Lower and upper bandwidths 2.
    function akzo_structure(self, n) result(structure)

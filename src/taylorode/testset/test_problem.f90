@@ -6,7 +6,7 @@ module taylorode_testset_test_problem
    implicit none
    private
 
-   public :: test_problem_type
+   public :: test_problem_type, unpack_band
 
    !> A ready problem of the library's test set: what it is, where it starts and ends,
    !> the tolerances it is meant to be run with and its published solution at t_end
@@ -31,5 +31,26 @@ module taylorode_testset_test_problem
       !> unstable where one is negative, so run with options%nonnegative set for all
       logical :: nonnegative = .false.
    end type test_problem_type
+
+contains
+
+   !> The dense matrix of a band in LAPACK storage with bandwidths lower and upper (for
+   !> the banded problems' Jacobians and mass matrices asked for dense):
+   !> dense(i, j) = band(upper + 1 + i - j, j), zero outside the band.
+   pure subroutine unpack_band(lower, upper, band, dense)
+      !> Lower and upper bandwidths
+      integer, intent(in) :: lower, upper
+      !> The band
+      real(dp), intent(in) :: band(:, :)
+      !> The dense matrix
+      real(dp), intent(out) :: dense(:, :)
+      integer :: i, j
+      dense = 0.0_dp
+      do j = 1, size(dense, 2)
+         do i = max(1, j - upper), min(size(dense, 1), j + lower)
+            dense(i, j) = band(upper + 1 + i - j, j)
+         end do
+      end do
+   end subroutine unpack_band
 
 end module taylorode_testset_test_problem

@@ -3,7 +3,7 @@
 !> TRANSAMP), banded.
 module taylorode_testset_transistor_amplifier
    use taylorode_base_kinds, only: dp
-   use taylorode_testset_test_problem, only: test_problem_type
+   use taylorode_testset_test_problem, only: test_problem_type, unpack_band
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure
    implicit none
    private
@@ -156,14 +156,8 @@ contains
       real(dp), intent(out) :: jac(:, :)
       ! (of fixed size: a local array of size(u) would be allocated at every call)
       real(dp) :: band(lower + upper + 1, unknowns)
-      integer :: i, j
       call self%jac_g_band(t, u, band)
-      jac = 0.0_dp
-      do j = 1, size(u)
-         do i = max(1, j - upper), min(size(u), j + lower)
-            jac(i, j) = band(diagonal + i - j, j)
-         end do
-      end do
+      call unpack_band(lower, upper, band, jac)
    end subroutine amplifier_jac_g
 
    !> dg/dU in band storage: band(2 + i - j, j) = dg_i/dy_j.
@@ -214,14 +208,8 @@ contains
       class(transistor_amplifier_type), intent(inout) :: self
       real(dp), intent(out) :: m(:, :)
       real(dp) :: band(lower + upper + 1, unknowns)
-      integer :: i, j
       call self%mass_matrix_band(band)
-      m = 0.0_dp
-      do j = 1, size(m, 2)
-         do i = max(1, j - upper), min(size(m, 1), j + lower)
-            m(i, j) = band(diagonal + i - j, j)
-         end do
-      end do
+      call unpack_band(lower, upper, band, m)
    end subroutine amplifier_mass
 
    !> M in the Jacobian's band storage: band(2 + i - j, j) = M(i, j).
