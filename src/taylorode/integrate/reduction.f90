@@ -24,6 +24,10 @@ contains
       !> This process's value
       real(dp), intent(in) :: x
       real(dp) :: values(1)
+      if (problem%whole_state_here()) then
+         reduced_max = x
+         return
+      end if
       values(1) = x
       call problem%reduce(reduce_max, values)
       reduced_max = values(1)
@@ -39,6 +43,10 @@ contains
       !> This process's number of components
       integer, intent(in) :: count
       real(dp) :: values(2)
+      if (problem%whole_state_here()) then
+         reduced_root_mean_square = sqrt(sum_squares/real(count, dp))
+         return
+      end if
       values(1) = sum_squares
       values(2) = real(count, dp)
       call problem%reduce(reduce_sum, values)
@@ -57,6 +65,12 @@ contains
       type(status_type), intent(inout) :: stat
       real(dp) :: values(2)
       logical :: fatal
+      if (problem%whole_state_here()) then
+         if (stat%code == status_evaluation_failed .and. .not. problem%evaluation_rejected()) then
+            call problem%reject_evaluation()
+         end if
+         return
+      end if
       fatal = problem%evaluation_fatal()
       values(1) = real(stat%code, dp)
       values(2) = merge(1.0_dp, 0.0_dp, fatal)
@@ -77,6 +91,10 @@ contains
       !> This process's part
       real(dp), intent(in) :: v(:)
       real(dp) :: values(1)
+      if (problem%whole_state_here()) then
+         finite_everywhere = all(ieee_is_finite(v))
+         return
+      end if
       values(1) = real(count(.not. ieee_is_finite(v)), dp)
       call problem%reduce(reduce_sum, values)
       finite_everywhere = .not. values(1) > 0.0_dp

@@ -83,6 +83,9 @@ module taylorode_problem_ode
       !> An autonomous problem saves them (without dF/dt, a problem that does depend on t
       !> is advanced to first order only)
       logical :: autonomous = .false.
+      !> Set by the default `reduce` when first called: the whole state is in this
+      !> process, and the integrator's reductions are skipped from then on
+      logical, private :: whole_state = .false.
       !> Set by reject_evaluation, cleared by the integrator before each attempt
       logical, private :: rejected = .false.
       !> Set by reject_evaluation(fatal=.true.): the integration stops at once
@@ -180,6 +183,9 @@ module taylorode_problem_ode
       procedure, non_overridable :: evaluation_fatal
       !> Forget earlier rejections (the integrator does this before each attempt)
       procedure, non_overridable :: clear_rejection
+      !> Whether the default `reduce` has been called: the whole state is in this
+      !> process, nothing to combine
+      procedure, non_overridable :: whole_state_here
       !> Why an evaluation was rejected for want of memory for a work array (if it was)
       procedure, non_overridable :: memory_failure
    end type ode_problem
@@ -312,6 +318,15 @@ contains
       class(ode_problem), intent(in) :: self
       evaluation_rejected = self%rejected
    end function evaluation_rejected
+
+   !> Whether the default `reduce` has been called (the problem does not override it:
+   !> the whole state is in this process, and every reduction leaves its values as
+   !> they are).
+   pure logical function whole_state_here(self)
+      !> The problem
+      class(ode_problem), intent(in) :: self
+      whole_state_here = self%whole_state
+   end function whole_state_here
 
    !> Forget earlier rejections.
    subroutine clear_rejection(self)
@@ -710,6 +725,7 @@ contains
       integer, intent(in) :: operation
       !> This process's values on entry, the combined values on exit
       real(dp), intent(inout) :: values(:)
+      self%whole_state = .true.
    end subroutine reduce
 
    !> Work arrays of the differences for n unknowns (allocated only when n changes);
