@@ -90,6 +90,7 @@ contains
          new_unittest("difference-jacobian-from-fcn", test_difference_jacobian), &
          new_unittest("difference-increment-from-uround", test_difference_increment), &
          new_unittest("newton-iterations-honoured", test_newton_iterations), &
+         new_unittest("fcn-may-write-x-and-y", test_fcn_writes_arguments), &
          new_unittest("step-budget-statistics", test_budget), &
          new_unittest("evaluation-flag", test_evaluation_flag), &
          new_unittest("mass-transistor-amplifier", test_mass_transistor_amplifier), &
@@ -336,6 +337,38 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_newton_iterations
+
+   !> X and Y are copies FCN may write (README): a FCN that overwrites them once it has
+   !> computed F (Y with NaN, X moved) gives the run of one that does not, to the last
+   !> bit, with JAC and without (differences, whose perturbed states FCN is given), through
+   !> radau5 (whose stage states FCN is given without a copy: formed anew for each call)
+   !> and i-t-2. Fails when a state FCN was given is used after the call.
+   subroutine test_fcn_writes_arguments(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
+      real(dp) :: x, y(2), y_plain(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid, k, ijac
+      character(len=:), allocatable :: message
+      do k = 1, size(names)
+         do ijac = 0, 1
+            call fresh(x, y_plain, h, rtol, atol, work, iwork)
+            call legacy_solve(trim(names(k)), 2, vdp, vdp, .false., x, y_plain, vdp_end, h, rtol, atol, 0, &
+               vdp_jacobian, 0, vdp_jacobian, ijac, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, size(work), &
+               iwork, size(iwork), rpar, ipar, idid, message)
+            call check(error, idid, 1, trim(names(k))//": "//message)
+            if (allocated(error)) return
+            call fresh(x, y, h, rtol, atol, work, iwork)
+            call legacy_solve(trim(names(k)), 2, scribbling_vdp, scribbling_vdp, .false., x, y, vdp_end, h, rtol, &
+               atol, 0, vdp_jacobian, 0, vdp_jacobian, ijac, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, &
+               size(work), iwork, size(iwork), rpar, ipar, idid, message)
+            call check(error, idid, 1, trim(names(k))//", FCN writing X and Y: "//message)
+            if (allocated(error)) return
+            call check(error, all(y == y_plain) .and. x == vdp_end, trim(names(k))//", IJAC = "// &
+               format_integer(ijac)//": a FCN writing X and Y changed the run by "//format_real(maxval(abs(y - y_plain))))
+            if (allocated(error)) return
+         end do
+      end do
+   end subroutine test_fcn_writes_arguments
 
    !> At the step budget: IDID = -2, X where it stopped, and IWORK(16) = NMAX + 1 as in
    !> RADAU5 (which counts the attempt that finds the budget spent); the message says so.
@@ -613,6 +646,16 @@ contains
       if (recorded_calls <= size(recorded_states, 2)) recorded_states(:, recorded_calls) = y
       call vdp(n, x, y, f, rpar, ipar)
    end subroutine recorded_vdp
+
+   !> vdp, then X and Y overwritten (Y with NaN), as FCN may
+   subroutine scribbling_vdp(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      call vdp(n, x, y, f, rpar, ipar)
+      x = -1.0_dp
+      y = ieee_value(1.0_dp, ieee_quiet_nan)
+   end subroutine scribbling_vdp
 
    !> vdp, counting its calls in rpar(1)
    subroutine counted_vdp(n, x, y, f, rpar, ipar)

@@ -98,6 +98,7 @@ module taylorode_interfaces_legacy
       procedure :: g => legacy_g
       procedure :: rhs => legacy_rhs
       procedure :: rhs_values => legacy_rhs_values
+      procedure :: rhs_scratch => legacy_rhs_scratch
       procedure :: jac_f => legacy_jac_f
       procedure :: jac_g => legacy_jac_g
       procedure :: jac => legacy_jac
@@ -902,6 +903,24 @@ contains
       end do
       call self%fcn_g(n, x, self%x_state, dudt, self%rpar, self%ipar)
    end subroutine legacy_rhs_values
+
+   !> F = f + g of n unknowns at the caller's scratch state: FCN alone called with it
+   !> (FCN may write it, as RADAU5's FCN may write the stage states it is given), else
+   !> legacy_rhs_values.
+   subroutine legacy_rhs_scratch(self, n, t, u, dudt)
+      class(legacy_problem_type), intent(inout) :: self
+      integer, intent(in) :: n
+      real(dp), intent(in) :: t
+      real(dp), intent(inout) :: u(n)
+      real(dp), intent(out) :: dudt(n)
+      real(dp) :: x
+      if (self%has_f .or. self%flag > 0) then
+         call legacy_rhs_values(self, n, t, u, dudt)
+         return
+      end if
+      x = t
+      call self%fcn_g(n, x, u, dudt, self%rpar, self%ipar)
+   end subroutine legacy_rhs_scratch
 
    !> Dense df/dU: the user's JACF, zero without f, forward differences otherwise.
    subroutine legacy_jac_f(self, t, u, jac)

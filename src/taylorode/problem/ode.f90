@@ -139,6 +139,11 @@ module taylorode_problem_ode
       !> call it with explicit-shape arrays (no array descriptors); default: `rhs`.
       !> Override it only to call F without them (the legacy entry's FCN)
       procedure :: rhs_values
+      !> F(t, U) as `rhs_values`, of a state the caller no longer needs: the problem may
+      !> overwrite it (radau5's stage states); default: `rhs_values`. Override it only to
+      !> hand the state to a routine that may write it, without a copy (the legacy
+      !> entry's FCN)
+      procedure :: rhs_scratch
       !> The whole Jacobian J = df/dU + dg/dU, for the schemes that use only J (i-t-1,
       !> i-t-2, radau5); default: jac_f, then jac_g added, or, when both are the default
       !> differences (`ode_problem_fd`), forward differences of F = `rhs` (one call per
@@ -442,6 +447,21 @@ contains
       real(dp), intent(out) :: dudt(n)
       call self%rhs(t, u, dudt)
    end subroutine rhs_values
+
+   !> F(t, u) of n unknowns, u the caller's scratch: `rhs_values`.
+   subroutine rhs_scratch(self, n, t, u, dudt)
+      !> The problem
+      class(ode_problem), intent(inout) :: self
+      !> Unknowns
+      integer, intent(in) :: n
+      !> Time
+      real(dp), intent(in) :: t
+      !> State, which the problem may overwrite
+      real(dp), intent(inout) :: u(n)
+      !> F(t, u)
+      real(dp), intent(out) :: dudt(n)
+      call self%rhs_values(n, t, u, dudt)
+   end subroutine rhs_scratch
 
    !> J = df/dU + dg/dU: jac_f, then jac_g into a work array the problem keeps, added;
    !> when both are the default differences (`ode_problem_fd`), forward differences of F

@@ -865,10 +865,11 @@ contains
             return
          end if
          ! F = f + g at the three stages (the problem's rhs, called directly), each into
-         ! its stage's column of z once the stage state is formed
+         ! its stage's column of z once the stage state is formed (in `stage`, formed
+         ! anew for each: the problem may overwrite it)
          do s = 1, 3
             call add_vectors(n, u0, z(:, s), stage)
-            call problem%rhs_values(n, stage_time(s), stage, r(:, s))
+            call problem%rhs_scratch(n, stage_time(s), stage, r(:, s))
          end do
          self%counters%f_evaluations = self%counters%f_evaluations + 3
          self%counters%g_evaluations = self%counters%g_evaluations + 3
