@@ -469,7 +469,7 @@ contains
          call problem%clear_rejection()
          call scheme%refine_estimate(problem, t, h, self%delta, refined, step_stat)
          if (refined) then
-            call conclude(self%delta)
+            call conclude(size(self%delta), self%delta)
             if (outcome /= attempt_accepted) then
                h_next = failure_shrink*h
                return
@@ -581,7 +581,7 @@ contains
          if (scheme%checks_defect) then
             call problem%clear_rejection()
             call scheme%step_error(problem, t, h, u, self%u_new, self%defect, step_stat)
-            call conclude(self%defect)
+            call conclude(size(self%defect), self%defect)
             if (outcome /= attempt_accepted) return
          end if
          if (options%local_extrapolation) self%u_new = self%u_new + self%delta
@@ -630,7 +630,7 @@ contains
       subroutine estimate_step_error()
          call problem%clear_rejection()
          call scheme%step_error(problem, t, h, u, self%u_new, self%delta, step_stat)
-         call conclude(self%delta)
+         call conclude(size(self%delta), self%delta)
       end subroutine estimate_step_error
 
       !> One step of `stepper_scheme` with Newton `settings` from (t_from, u_from) into
@@ -650,23 +650,26 @@ contains
          else
             call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference)
          end if
-         call conclude(u_to, difference)
+         call conclude(size(u_to), u_to, difference)
       end subroutine run_scheme
 
       !> The outcome of what the scheme just computed (values, and more values when
       !> given), agreed on by every process: a rejected evaluation, NaN or Inf values,
       !> or the scheme's own failure (Newton's or its linear algebra's).
-      subroutine conclude(values, more_values)
-         real(dp), intent(in), contiguous :: values(:)
-         real(dp), intent(in), contiguous, optional :: more_values(:)
+      subroutine conclude(n, values, more_values)
+         ! (explicit-shape: the stepper's own arrays, contiguous, reach it without
+         ! descriptors built at every attempt)
+         integer, intent(in) :: n
+         real(dp), intent(in) :: values(n)
+         real(dp), intent(in), optional :: more_values(n)
          if (problem%evaluation_rejected()) then
             call set_code(step_stat, status_evaluation_failed)
             ! status_out_of_memory, when a work array of the problem could not be allocated
             call problem%memory_failure(step_stat)
          else if (step_stat%code == status_ok) then
-            if (.not. finite(values)) call set_code(step_stat, status_nonfinite)
+            if (.not. finite(n, values)) call set_code(step_stat, status_nonfinite)
             if (present(more_values)) then
-               if (.not. finite(more_values)) call set_code(step_stat, status_nonfinite)
+               if (.not. finite(n, more_values)) call set_code(step_stat, status_nonfinite)
             end if
          end if
          call agree_on_outcome(problem, step_stat)
@@ -720,14 +723,15 @@ contains
       self%extrapolation_ready = .false.
    end subroutine undo_acceptance
 
-   !> Whether every entry of v is finite.
-   pure logical function finite(v)
-      real(dp), intent(in), contiguous :: v(:)
+   !> Whether every entry of v (n of them) is finite.
+   pure logical function finite(n, v)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: v(n)
       integer :: i
       finite = .false.
       ! (not unrolled: on a few unknowns the unrolled loop's entry costs more than the tests)
       !GCC$ unroll 1
-      do i = 1, size(v)
+      do i = 1, n
          if (.not. ieee_is_finite(v(i))) return
       end do
       finite = .true.
