@@ -1023,7 +1023,8 @@ contains
       class(ode_problem), intent(inout) :: problem
       real(dp), intent(in) :: t
       if (self%rhs0_valid) return
-      call problem%rhs(t, self%u_start, self%rhs0)
+      ! (explicit-shape, as the stages: the legacy entry's FCN without another layer)
+      call problem%rhs_values(self%n, t, self%u_start, self%rhs0)
       self%counters%f_evaluations = self%counters%f_evaluations + 1
       self%counters%g_evaluations = self%counters%g_evaluations + 1
       self%rhs0_valid = .not. problem%evaluation_rejected()
@@ -1048,7 +1049,8 @@ contains
       call add_vectors(self%n, self%u_start, delta, self%stage)
       ! the stage part of the first estimate is still in w(:, 2)
       associate (estimate => self%w(:, 1), stage_part => self%w(:, 2))
-         call problem%rhs(t, self%stage, estimate)
+         ! (self%stage is scratch here)
+         call problem%rhs_scratch(self%n, t, self%stage, estimate)
          self%counters%f_evaluations = self%counters%f_evaluations + 1
          self%counters%g_evaluations = self%counters%g_evaluations + 1
          !GCC$ unroll 1
