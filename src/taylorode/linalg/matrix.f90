@@ -262,17 +262,18 @@ contains
    logical function all_finite(self)
       !> The matrix
       class(matrix_type), intent(in) :: self
-      integer :: i, j
+      integer :: j, first, last
       all_finite = .false.
       select type (self)
       type is (dense_matrix_type)
          all_finite = finite_values(size(self%a), self%a)
          return
       type is (band_matrix_type)
+         ! column by column, the band's rows of each (contiguous in the storage)
          do j = 1, self%n
-            do i = max(1, j - self%ku), min(self%n, j + self%kl)
-               if (.not. ieee_is_finite(self%ab(self%diagonal + i - j, j))) return
-            end do
+            first = self%diagonal + max(1, j - self%ku) - j
+            last = self%diagonal + min(self%n, j + self%kl) - j
+            if (.not. finite_values(last - first + 1, self%ab(first:last, j))) return
          end do
       end select
       all_finite = .true.
