@@ -24,12 +24,8 @@ contains
       !> This process's value
       real(dp), intent(in) :: x
       real(dp) :: values(1)
-      if (problem%whole_state_here()) then
-         reduced_max = x
-         return
-      end if
       values(1) = x
-      call problem%reduce(reduce_max, values)
+      if (.not. problem%whole_state_here()) call problem%reduce(reduce_max, values)
       reduced_max = values(1)
    end function reduced_max
 
@@ -43,13 +39,9 @@ contains
       !> This process's number of components
       integer, intent(in) :: count
       real(dp) :: values(2)
-      if (problem%whole_state_here()) then
-         reduced_root_mean_square = sqrt(sum_squares/real(count, dp))
-         return
-      end if
       values(1) = sum_squares
       values(2) = real(count, dp)
-      call problem%reduce(reduce_sum, values)
+      if (.not. problem%whole_state_here()) call problem%reduce(reduce_sum, values)
       reduced_root_mean_square = sqrt(values(1)/values(2))
    end function reduced_root_mean_square
 
@@ -65,21 +57,17 @@ contains
       type(status_type), intent(inout) :: stat
       real(dp) :: values(2)
       logical :: fatal
-      if (problem%whole_state_here()) then
-         if (stat%code == status_evaluation_failed .and. .not. problem%evaluation_rejected()) then
-            call problem%reject_evaluation()
-         end if
-         return
+      if (.not. problem%whole_state_here()) then
+         fatal = problem%evaluation_fatal()
+         values(1) = real(stat%code, dp)
+         values(2) = merge(1.0_dp, 0.0_dp, fatal)
+         call problem%reduce(reduce_max, values)
+         ! codes are small integers, exact in double precision
+         if (int(values(1)) /= stat%code) call set_code(stat, int(values(1)))
+         if (values(2) > 0.0_dp .and. .not. fatal) call problem%reject_evaluation(fatal=.true.)
       end if
-      fatal = problem%evaluation_fatal()
-      values(1) = real(stat%code, dp)
-      values(2) = merge(1.0_dp, 0.0_dp, fatal)
-      call problem%reduce(reduce_max, values)
-      ! codes are small integers, exact in double precision
-      if (int(values(1)) /= stat%code) call set_code(stat, int(values(1)))
-      if (values(2) > 0.0_dp .and. .not. fatal) then
-         call problem%reject_evaluation(fatal=.true.)
-      else if (stat%code == status_evaluation_failed .and. .not. problem%evaluation_rejected()) then
+      ! (after a fatal rejection just recorded, evaluation_rejected is true)
+      if (stat%code == status_evaluation_failed .and. .not. problem%evaluation_rejected()) then
          call problem%reject_evaluation()
       end if
    end subroutine agree_on_outcome
@@ -91,12 +79,8 @@ contains
       !> This process's part
       real(dp), intent(in) :: v(:)
       real(dp) :: values(1)
-      if (problem%whole_state_here()) then
-         finite_everywhere = all(ieee_is_finite(v))
-         return
-      end if
       values(1) = real(count(.not. ieee_is_finite(v)), dp)
-      call problem%reduce(reduce_sum, values)
+      if (.not. problem%whole_state_here()) call problem%reduce(reduce_sum, values)
       finite_everywhere = .not. values(1) > 0.0_dp
    end function finite_everywhere
 

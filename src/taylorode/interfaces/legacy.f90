@@ -906,7 +906,7 @@ contains
 
    !> F = f + g of n unknowns at the caller's scratch state: FCN alone called with it
    !> (FCN may write it, as RADAU5's FCN may write the stage states it is given), else
-   !> legacy_rhs_values.
+   !> legacy_rhs.
    subroutine legacy_rhs_scratch(self, n, t, u, dudt)
       class(legacy_problem_type), intent(inout) :: self
       integer, intent(in) :: n
@@ -915,7 +915,7 @@ contains
       real(dp), intent(out) :: dudt(n)
       real(dp) :: x
       if (self%has_f .or. self%flag > 0) then
-         call legacy_rhs_values(self, n, t, u, dudt)
+         call legacy_rhs(self, t, u, dudt)
          return
       end if
       x = t
