@@ -87,6 +87,7 @@ contains
          new_unittest("settings-checked-as-radau5", test_settings_checked), &
          new_unittest("settings-in-range-accepted", test_settings_accepted), &
          new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
+         new_unittest("first-rejection-as-radau5", test_first_rejection), &
          new_unittest("difference-jacobian-from-fcn", test_difference_jacobian), &
          new_unittest("difference-increment-from-uround", test_difference_increment), &
          new_unittest("newton-iterations-honoured", test_newton_iterations), &
@@ -245,6 +246,44 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_radau5_as_radau5
+
+   !> Before its first accepted step RADAU5 retries an attempt the error test rejects
+   !> with H/10 (H = H*0.1 while FIRST), not with its controller's factor (at least 0.2
+   !> with WORK(8:9)'s defaults): from a first H too large for the tolerance,
+   !> TAYLORODE('radau5', ...)'s first accepted step is H times a power of 0.1, the
+   !> attempts before it all rejected (IWORK(18) does not count them). Van der Pol,
+   !> RTOL = ATOL = 1e-6, H = 1e-2 and 1e-3. Before, with the controller's factor, the
+   !> first step from H = 1e-2 ended at 4.26e-4, and the counts differed from Hairer's
+   !> RADAU5's on Van der Pol (eps = 1e-6, both starts, RTOL 1e-2 ... 1e-10, H = 1e-6)
+   !> in 15 of 18 runs (up to 6 attempts); now in none.
+   subroutine test_first_rejection(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(2), h, h_first, h_retried, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid, start, retries
+      character(len=:), allocatable :: message
+      logical :: power_of_tenth
+
+      do start = 2, 3
+         call fresh(x, y, h, rtol, atol, work, iwork)
+         h_first = 10.0_dp**(-start)
+         h = h_first
+         rpar = 0.0_dp
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message, output=.true.)
+         call check(error, idid, 1, "H = "//format_real(h_first)//": "//message)
+         if (allocated(error)) return
+         ! RADAU5's arithmetic: H*0.1, then that times 0.1, ...
+         power_of_tenth = .false.
+         h_retried = h_first
+         do retries = 1, 8
+            h_retried = h_retried*0.1_dp
+            power_of_tenth = power_of_tenth .or. rpar(1) == h_retried
+         end do
+         call check(error, power_of_tenth .and. iwork(16) > iwork(17), "H = "//format_real(h_first)// &
+            ": the first step ended at "//format_real(rpar(1))//" after "//format_integer(iwork(16) - &
+            iwork(17))//" attempts not accepted; RADAU5 retries with H/10 before its first accepted step")
+         if (allocated(error)) return
+      end do
+   end subroutine test_first_rejection
 
    !> TAYLORODE('radau5', ...) without JAC (IJAC = 0) differences FCN as RADAU5 does: N
    !> calls per Jacobian (F at the step's start is the one the step has), none beside

@@ -506,6 +506,10 @@ contains
          if (problem%linear_g .and. scheme%implicit) hold_high = max(hold_high, linear_hold)
          if (factor >= hold_low .and. factor <= hold_high) factor = 1.0_dp
       end if
+      ! before the first accepted step a scheme may have a rule of its own (radau5 as
+      ! RADAU5: h/10), which the options' limits do not bound
+      if (err > 1.0_dp .and. self%h_previous == 0.0_dp .and. scheme%first_rejection_factor() > 0.0_dp) &
+         factor = scheme%first_rejection_factor()
       h_next = min(factor*h, options%h_max)
       if (err <= 1.0_dp) then
          outcome = attempt_accepted

@@ -491,6 +491,7 @@ contains
                scheme%jacobian_reuse = thet
                scheme%hold_low = quot1
                scheme%hold_high = quot2
+               scheme%first_step_as_radau5 = .true.
             end select
          end if
          reason = reason_none

@@ -50,7 +50,9 @@
 !> contraction rate when Newton stopped because it would not converge in time,
 !> 0.8 min(20, dyth)^(-1/(4 + NIT - 1 - newt)), else 1/2 (before the first accepted
 !> step at most the integrator's). What the integrator does not take from RADAU5:
-!> the first step size.
+!> the first step size, and (unless `first_step_as_radau5`) the rules before the
+!> first accepted step: an error-test rejection there shrinks h by the controller's
+!> factor, not RADAU5's 1/10.
 !>
 !> Mass matrices: with a problem that declares a constant mass matrix M (`has_mass`:
 !> M U' = F, M possibly singular, the index-1 differential-algebraic systems RADAU5 is
@@ -65,7 +67,9 @@
 !> IWORK(4), WORK(3), WORK(5) and WORK(6) onto them): `zero_start` (Newton from zero
 !> stage increments instead of the extrapolated polynomial), `jacobian_reuse` (THET:
 !> the contraction rate up to which J serves the next step; negative: a new J after
-!> every accepted step) and `hold_low`, `hold_high` (QUOT1, QUOT2).
+!> every accepted step) and `hold_low`, `hold_high` (QUOT1, QUOT2); and
+!> `first_step_as_radau5` (the legacy entry sets it): before the first accepted step
+!> RADAU5's h/10 after an error-test rejection and its factor after a Newton failure.
 !>
 !> Counters: one LU factorization counts the real and the complex factorization
 !> for one step size (RADAU5's NDEC); one linear solve per Newton iteration (both
@@ -128,6 +132,9 @@ module taylorode_schemes_radau5
    real(dp), parameter :: divergence_rate = 0.99_dp
    !> Step-size factors h_new / h kept as h after fast Newton (QUOT1, QUOT2)
    real(dp), parameter :: default_hold_low = 1.0_dp, default_hold_high = 1.2_dp
+   !> RADAU5's step-size factor after an error-test rejection before its first
+   !> accepted step
+   real(dp), parameter :: first_rejection_shrink = 0.1_dp
    !> FNEWT = max(10 eps / rtol, min(newton_fraction_cap, sqrt(rtol)))
    real(dp), parameter :: newton_fraction_cap = 0.03_dp
    !> Step-size factor after a Newton failure without a contraction rate to go by
@@ -210,6 +217,11 @@ module taylorode_schemes_radau5
       !> After fast Newton an accepted step keeps h when h_new / h is in
       !> [hold_low, hold_high] (RADAU5's QUOT1, QUOT2: WORK(5), WORK(6))
       real(dp) :: hold_low = default_hold_low, hold_high = default_hold_high
+      !> Before the first accepted step, RADAU5's rules (its FIRST): an attempt the
+      !> error test rejects is retried with h/10, one whose Newton failed with
+      !> RADAU5's factor; off (the default), the integrator's controller and at most
+      !> its failure factor, as the integrator chooses the first h itself
+      logical :: first_step_as_radau5 = .false.
    contains
       !> One step of Radau IIA and, when asked, the filtered order-3 error estimate
       procedure :: advance => radau_advance
@@ -221,6 +233,7 @@ module taylorode_schemes_radau5
       procedure :: newton_fraction => radau_newton_fraction
       procedure :: dense_output => radau_dense_output
       procedure :: failure_factor => radau_failure_factor
+      procedure :: first_rejection_factor => radau_first_rejection_factor
       procedure :: refine_estimate => radau_refine_estimate
    end type radau5_type
 
@@ -321,14 +334,22 @@ contains
    end subroutine radau_dense_output
 
    !> RADAU5's factor after a Newton failure; before the first accepted step at most
-   !> the integrator's: h is then its first guess, which may be far too large (RADAU5
-   !> starts from 1e-6), and RADAU5's halving would need many retries to get down.
+   !> the integrator's (unless `first_step_as_radau5`): h is then its first guess,
+   !> which may be far too large (RADAU5 starts from 1e-6), and RADAU5's halving would
+   !> need many retries to get down.
    pure real(dp) function radau_failure_factor(self, shrink) result(factor)
       class(radau5_type), intent(in) :: self
       real(dp), intent(in) :: shrink
       factor = self%retry_factor
-      if (.not. self%have_polynomial) factor = min(factor, shrink)
+      if (.not. (self%have_polynomial .or. self%first_step_as_radau5)) factor = min(factor, shrink)
    end function radau_failure_factor
+
+   !> With `first_step_as_radau5`, RADAU5's h/10 after an error-test rejection before
+   !> the first accepted step (H = H*0.1 while FIRST); else none.
+   pure real(dp) function radau_first_rejection_factor(self) result(factor)
+      class(radau5_type), intent(in) :: self
+      factor = merge(first_rejection_shrink, 0.0_dp, self%first_step_as_radau5)
+   end function radau_first_rejection_factor
 
    !> Forget the Jacobian, the factorizations, the polynomial and the previous step
    !> (new problem or integration).

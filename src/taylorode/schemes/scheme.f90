@@ -124,6 +124,9 @@ module taylorode_schemes_scheme
       procedure :: newton_fraction
       !> Step-size factor for the retry after a Newton failure (default: the integrator's)
       procedure :: failure_factor
+      !> Step-size factor after an error-test rejection before the first accepted step
+      !> (default: none, the controller's)
+      procedure :: first_rejection_factor
       !> The scheme's own dense output of the step it just took (default: none)
       procedure :: dense_output
       !> Estimate of the local error of the step just taken (default: none)
@@ -350,6 +353,16 @@ contains
       real(dp), intent(in) :: shrink
       failure_factor = shrink
    end function failure_factor
+
+   !> Factor h_new / h after the error test rejected an attempt before the first
+   !> accepted step of an integration, in place of the controller's (and of the
+   !> options' limits on it); 0, the default, leaves it to the controller (radau5 as
+   !> RADAU5, `first_step_as_radau5`: 0.1).
+   pure real(dp) function first_rejection_factor(self)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      first_rejection_factor = 0.0_dp
+   end function first_rejection_factor
 
    !> The scheme's continuous extension of the step it just took, from t with size h to
    !> u1, as a polynomial in theta = (t' - t)/h in Newton form (see
