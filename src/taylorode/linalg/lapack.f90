@@ -339,7 +339,7 @@ contains
       !> Superdiagonals of U that hold entries (see `narrow_band_lu_factor_real`)
       integer, intent(out), optional :: upper_width
       integer :: n, kv, i, j, jp, ju, km, c, width
-      real(dp) :: largest
+      real(dp) :: largest, xr, xi, minus_im
       complex(dp) :: swap, reciprocal_pivot, factor
 
       n = size(ab, 2)
@@ -381,15 +381,24 @@ contains
          reciprocal_pivot = reciprocal(ab(kv + 1, j))
          if (present(inverse_diagonal)) inverse_diagonal(j) = reciprocal_pivot
          if (km > 0) then
+            ! (the complex products as sums of two real products, as in small_lu_factor_complex)
+            minus_im = -reciprocal_pivot%im
             do i = 1, km
-               ab(kv + 1 + i, j) = ab(kv + 1 + i, j)*reciprocal_pivot
+               xr = ab(kv + 1 + i, j)%re
+               xi = ab(kv + 1 + i, j)%im
+               ab(kv + 1 + i, j)%re = xr*reciprocal_pivot%re + xi*minus_im
+               ab(kv + 1 + i, j)%im = xi*reciprocal_pivot%re + xr*reciprocal_pivot%im
             end do
             do c = j + 1, ju
                factor = -ab(kv + 1 - (c - j), c)
                if (factor == (0.0_dp, 0.0_dp)) cycle
+               minus_im = -factor%im
                !GCC$ novector
                do i = 1, km
-                  ab(kv + 1 + i - (c - j), c) = ab(kv + 1 + i - (c - j), c) + ab(kv + 1 + i, j)*factor
+                  xr = ab(kv + 1 + i, j)%re
+                  xi = ab(kv + 1 + i, j)%im
+                  ab(kv + 1 + i - (c - j), c)%re = ab(kv + 1 + i - (c - j), c)%re + (xr*factor%re + xi*minus_im)
+                  ab(kv + 1 + i - (c - j), c)%im = ab(kv + 1 + i - (c - j), c)%im + (xi*factor%re + xr*factor%im)
                end do
             end do
          end if
@@ -1255,7 +1264,7 @@ contains
       !> 1/U(k, k), for solves that multiply instead of divide
       complex(dp), intent(out), optional :: inverse_diagonal(n)
       integer :: i, j, k, p
-      real(dp) :: largest
+      real(dp) :: largest, xr, xi, minus_pivot_im
       complex(dp) :: pivot, swap, factor
 
       if (n <= 4) then
@@ -1289,21 +1298,46 @@ contains
          end if
          pivot = reciprocal(a(k, k))
          if (present(inverse_diagonal)) inverse_diagonal(k) = pivot
+         ! (the complex products as sums of two real products each, x p = (xr pr + xi (-pi),
+         ! xi pr + xr pi), the same rounding as x*p: gfortran then computes the two parts
+         ! in one pass, where it formed both a sum and a difference and merged them)
+         minus_pivot_im = -pivot%im
          !GCC$ unroll 1
          do i = k + 1, n
-            a(i, k) = a(i, k)*pivot
+            xr = a(i, k)%re
+            xi = a(i, k)%im
+            a(i, k)%re = xr*pivot%re + xi*minus_pivot_im
+            a(i, k)%im = xi*pivot%re + xr*pivot%im
          end do
          !GCC$ unroll 1
          do j = k + 1, n
             factor = a(k, j)
             if (factor == (0.0_dp, 0.0_dp)) cycle
-            !GCC$ unroll 1
-            do i = k + 1, n
-               a(i, j) = a(i, j) - factor*a(i, k)
-            end do
+            call subtract_multiple(n - k, factor%re, factor%im, a(k + 1:n, k), a(k + 1:n, j))
          end do
       end do
    end subroutine small_lu_factor_complex
+
+   !> y = y - (fr + i fi) x: the complex product's arithmetic, (fr xr - fi xi, fr xi + fi
+   !> xr), with fr xr - fi xi written fr xr + (-fi) xi (the same rounding), so that
+   !> both parts are a sum of two products and the pair is computed in one pass
+   !> (explicit-shape: the columns of `small_lu_factor_complex`'s matrix).
+   pure subroutine subtract_multiple(m, fr, fi, x, y)
+      integer, intent(in) :: m
+      real(dp), intent(in) :: fr, fi
+      complex(dp), intent(in) :: x(m)
+      complex(dp), intent(inout) :: y(m)
+      integer :: i
+      real(dp) :: xr, xi, minus_fi
+      minus_fi = -fi
+      !GCC$ unroll 1
+      do i = 1, m
+         xr = x(i)%re
+         xi = x(i)%im
+         y(i)%re = y(i)%re - (fr*xr + minus_fi*xi)
+         y(i)%im = y(i)%im - (fr*xi + fi*xr)
+      end do
+   end subroutine subtract_multiple
 
    !> `small_lu_factor_complex` for n <= 4, statement by statement (column k: the pivot,
    !> the row interchange, the multipliers, the update of the columns right of it): the
