@@ -492,6 +492,7 @@ contains
                scheme%hold_low = quot1
                scheme%hold_high = quot2
                scheme%first_step_as_radau5 = .true.
+               scheme%rounding = uround
             end select
          end if
          reason = reason_none

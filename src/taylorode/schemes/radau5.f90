@@ -64,10 +64,11 @@
 !> integration, in the storage of its Jacobian structure.
 !>
 !> Settings a caller may change after `new_radau5` (the legacy entry maps RADAU5's
-!> IWORK(4), WORK(3), WORK(5) and WORK(6) onto them): `zero_start` (Newton from zero
+!> IWORK(4), WORK(1), WORK(3), WORK(5) and WORK(6) onto them): `zero_start` (Newton from zero
 !> stage increments instead of the extrapolated polynomial), `jacobian_reuse` (THET:
 !> the contraction rate up to which J serves the next step; negative: a new J after
-!> every accepted step) and `hold_low`, `hold_high` (QUOT1, QUOT2); and
+!> every accepted step) and `hold_low`, `hold_high` (QUOT1, QUOT2); `rounding` (UROUND,
+!> WORK(1): the floor of Newton's increment norms and contraction estimate); and
 !> `first_step_as_radau5` (the legacy entry sets it): before the first accepted step
 !> RADAU5's h/10 after an error-test rejection and its factor after a Newton failure.
 !>
@@ -222,6 +223,9 @@ module taylorode_schemes_radau5
       !> RADAU5's factor; off (the default), the integrator's controller and at most
       !> its failure factor, as the integrator chooses the first h itself
       logical :: first_step_as_radau5 = .false.
+      !> The rounding unit below which Newton's increments and contraction estimate are
+      !> not taken (RADAU5's UROUND, WORK(1), which the legacy entry sets; default epsilon)
+      real(dp) :: rounding = epsilon(1.0_dp)
    contains
       !> One step of Radau IIA and, when asked, the filtered order-3 error estimate
       procedure :: advance => radau_advance
@@ -287,14 +291,20 @@ contains
          real(self%newton_count + 2*self%iteration_limit, dp))
    end function radau_step_safety
 
-   !> Keep h for factors in [1, 1.2] after fast Newton (the factorizations then
-   !> serve the next step), and never grow h right after a rejection.
+   !> Keep h for factors in [QUOT1, QUOT2] ([1, 1.2] by default) after fast Newton
+   !> (theta <= THET: the factorizations then serve the next step), and never grow h
+   !> right after a rejection (RADAU5's HNEW = MIN(HNEW, H), then its test of
+   !> QUOT1 <= HNEW/H <= QUOT2 when theta <= THET).
    pure subroutine radau_step_hold(self, low, high)
       class(radau5_type), intent(in) :: self
       real(dp), intent(out) :: low, high
-      low = self%hold_low
-      high = self%hold_low
-      if (self%theta <= self%jacobian_reuse) high = self%hold_high
+      if (self%theta <= self%jacobian_reuse) then
+         low = self%hold_low
+         high = self%hold_high
+      else
+         low = 1.0_dp
+         high = 1.0_dp
+      end if
       if (self%retry) high = huge(1.0_dp)
    end subroutine radau_step_hold
 
@@ -953,7 +963,7 @@ contains
                return
             end if
          end if
-         dynold = max(dyno, epsilon(1.0_dp))
+         dynold = max(dyno, self%rounding)
          if (converged()) exit
       end do
       self%newton_count = newt
@@ -977,7 +987,7 @@ contains
                converged = .false.
                return
             end if
-            self%faccon = max(self%faccon, epsilon(1.0_dp))**(0.8_dp**self%faccon_raises)
+            self%faccon = max(self%faccon, self%rounding)**(0.8_dp**self%faccon_raises)
             self%faccon_raises = 0
          end if
          converged = self%faccon*dyno <= 1.0_dp
