@@ -79,7 +79,7 @@ int taylorode_set_functions(taylorode_t *ode, taylorode_rhs_fn f, taylorode_rhs_
 int taylorode_set_bandwidths(taylorode_t *ode, int lower, int upper);
 int taylorode_set_tolerances(taylorode_t *ode, double rtol, double atol);
 int taylorode_set_tolerance_vectors(taylorode_t *ode, const double *rtol, const double *atol);
-/* Options by name: "h0", "h_min", "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction",
+/* Options by name: "h0", "h_min", "h_min_relative", "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction",
    "max_steps", "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0/1), "measure_time" (0/1:
    1, the default, measures each call's CPU time, which costs two system calls per call),
    "controller" (0: I, 1: PI, 2: PID), "norm" (0: max, 1: rms); and the problem's "autonomous" (1: f and g

@@ -57,6 +57,15 @@ module test_integrator
       procedure :: jac_g => cubic_jac_g
    end type cubic_decay_problem
 
+   !> u' = u^2 (all in g), u(0) = 1: u = 1/(1 - t) blows up at t = 1
+   type, extends(ode_problem) :: blow_up_type
+   contains
+      procedure :: f => blow_up_f
+      procedure :: g => blow_up_g
+      procedure :: jac_f => blow_up_jac_f
+      procedure :: jac_g => blow_up_jac_g
+   end type blow_up_type
+
    !> A stiff part that returns NaN at every t > 0
    type, extends(ode_problem) :: poisoned_problem
    contains
@@ -544,6 +553,12 @@ contains
       options = integrator_options_type(h_max=0.0_dp)
       call expect(status_invalid_argument, "h_max")
       if (allocated(error)) return
+      options = integrator_options_type(h_min_relative=1.0_dp)
+      call expect(status_invalid_argument, "h_min_relative")
+      if (allocated(error)) return
+      options = integrator_options_type(h_min_relative=nan)
+      call expect(status_invalid_argument, "h_min_relative")
+      if (allocated(error)) return
       options = integrator_options_type(kappa=1.5_dp)
       call expect(status_invalid_argument, "kappa")
       if (allocated(error)) return
@@ -646,6 +661,37 @@ contains
       call check(error, stat%code, status_step_underflow, stat_message(stat))
       if (allocated(error)) return
       call check(error, stats%t_reached < 3000.0_dp .and. all(ieee_is_finite(u)), "last good state")
+      if (allocated(error)) return
+      call relative_limit(error)
+
+   contains
+
+      !> h_min_relative: y' = y^2, y(0) = 1, blows up at t = 1, where h shrinks until the
+      !> integration gives up; with h_min_relative = 1e-6 it gives up at h <= 1e-6 |t|,
+      !> after fewer attempts than at the roundoff of t, and no accepted step is smaller
+      subroutine relative_limit(error)
+         type(error_type), allocatable, intent(out) :: error
+         type(blow_up_type) :: blow_up
+         type(integration_stats_type) :: stats_roundoff
+         real(dp) :: y(1)
+         call new_scheme("radau5", scheme, stat)
+         options = integrator_options_type(rtol=1.0e-8_dp, atol=1.0e-8_dp)
+         y = 1.0_dp
+         call integrate(blow_up, scheme, 0.0_dp, 2.0_dp, y, options, stats_roundoff, stat)
+         call check(error, stat%code, status_step_underflow, "at the roundoff of t: "//stat_message(stat))
+         if (allocated(error)) return
+         options%h_min_relative = 1.0e-6_dp
+         y = 1.0_dp
+         call integrate(blow_up, scheme, 0.0_dp, 2.0_dp, y, options, stats, stat)
+         call check(error, stat%code, status_step_underflow, "h_min_relative = 1e-6: "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, stats%accepted_steps + stats%rejected_steps() < stats_roundoff%accepted_steps + &
+            stats_roundoff%rejected_steps() .and. stats%h_min_accepted > 1.0e-6_dp*stats%t_reached .and. &
+            stats%t_reached < 1.0_dp, "h_min_relative = 1e-6: "//format_integer(stats%accepted_steps + &
+            stats%rejected_steps())//" attempts (at the roundoff of t "//format_integer(stats_roundoff% &
+            accepted_steps + stats_roundoff%rejected_steps())//"), smallest accepted step "// &
+            format_real(stats%h_min_accepted)//" at t up to "//format_real(stats%t_reached))
+      end subroutine relative_limit
    end subroutine test_step_underflow
 
    !> g is NaN at every t > 0: each attempt fails, h shrinks, and after
@@ -1005,6 +1051,34 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
    end subroutine zero_jac
+
+   subroutine blow_up_f(self, t, u, dudt)
+      class(blow_up_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = 0.0_dp
+   end subroutine blow_up_f
+
+   subroutine blow_up_g(self, t, u, dudt)
+      class(blow_up_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = u**2
+   end subroutine blow_up_g
+
+   subroutine blow_up_jac_f(self, t, u, jac)
+      class(blow_up_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine blow_up_jac_f
+
+   subroutine blow_up_jac_g(self, t, u, jac)
+      class(blow_up_type), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 2.0_dp*u(1)
+   end subroutine blow_up_jac_g
 
    subroutine cubic_g(self, t, u, dudt)
       class(cubic_decay_problem), intent(inout) :: self

@@ -96,6 +96,7 @@ contains
          new_unittest("newton-iterations-honoured", test_newton_iterations), &
          new_unittest("fcn-may-write-x-and-y", test_fcn_writes_arguments), &
          new_unittest("step-budget-statistics", test_budget), &
+         new_unittest("step-too-small-as-radau5", test_step_too_small), &
          new_unittest("evaluation-flag", test_evaluation_flag), &
          new_unittest("mass-transistor-amplifier", test_mass_transistor_amplifier), &
          new_unittest("messages", test_messages), &
@@ -506,6 +507,45 @@ contains
       call check(error, index(text, "step budget") > 0, "message: "//trim(text))
    end subroutine test_budget
 
+   !> IDID = -3 where RADAU5 stops, 0.1 |H| <= |X| UROUND: y' = y^2, y(0) = 1 blows up
+   !> at X = 1, where H shrinks until the call gives up at |H| <= 10 UROUND |X|: no
+   !> accepted step is that small (SOLOUT records the smallest), and with UROUND = WORK(1)
+   !> = 1e-10 it gives up after fewer attempts than with the default 1e-16. Before, TAYLORODE
+   !> went on down to 2 epsilon |X| whatever UROUND: on Robertson with ATOL = RTOL = 1e-2
+   !> (a blow-up, which RADAU5 also ends with IDID = -3) 95 attempts against RADAU5's 93,
+   !> now 92 (RADAU5 counts the attempt whose H it finds too small).
+   subroutine test_step_too_small(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid, case, attempts(2)
+      character(len=:), allocatable :: message
+      do case = 1, 2
+         work = 0.0_dp
+         iwork = 0
+         if (case == 2) work(1) = 1.0e-10_dp
+         x = 0.0_dp
+         y = 1.0_dp
+         h = 1.0e-3_dp
+         rtol = 1.0e-6_dp
+         atol = 1.0e-6_dp
+         rpar = huge(1.0_dp)
+         call legacy_solve("radau5", 1, squaring, squaring, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
+            squaring_jacobian, 1, squaring_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, smallest_step, 1, work, &
+            lwork, iwork, liwork, rpar, ipar, idid, message)
+         call check(error, idid, -3, "UROUND "//merge("1e-10", "1e-16", case == 2)//": "//message)
+         if (allocated(error)) return
+         attempts(case) = iwork(16)
+         ! (the steps near the blow-up, where X is 1 to within 1e-3)
+         call check(error, abs(x - 1.0_dp) < 1.0e-3_dp .and. rpar(1) > 0.999_dp*10.0_dp* &
+            merge(1.0e-10_dp, 1.0e-16_dp, case == 2), &
+            "UROUND "//merge("1e-10", "1e-16", case == 2)//": stopped at X = "//format_real(x)// &
+            ", smallest accepted step "//format_real(rpar(1)))
+         if (allocated(error)) return
+      end do
+      call check(error, attempts(2) < attempts(1), "UROUND 1e-10: "//format_integer(attempts(2))// &
+         " attempts, 1e-16: "//format_integer(attempts(1))//"; a larger UROUND gives up sooner")
+   end subroutine test_step_too_small
+
    !> IWORK(11) = K makes IPAR(K) the evaluation flag: FCN sets it > 0 where it cannot
    !> evaluate (the step is retried shorter) or < 0 to stop. u' = -u on [0, 1], with
    !> FCN refusing x > 0.5: once only (the retry succeeds: IDID = 1), always (IDID = -7,
@@ -779,6 +819,29 @@ contains
       call vdp(n, x, y, f, rpar, ipar)
       rpar(1) = rpar(1) + 1.0_dp
    end subroutine counted_vdp
+
+   !> y' = y^2
+   subroutine squaring(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f = y**2
+   end subroutine squaring
+
+   subroutine squaring_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1, 1) = 2.0_dp*y(1)
+   end subroutine squaring_jacobian
+
+   !> rpar(1) = the smallest accepted step so far
+   subroutine smallest_step(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      irtrn = 0
+      if (nr > 1) rpar(1) = min(rpar(1), x - xold)
+   end subroutine smallest_step
 
    subroutine vdp_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
       integer :: n, ldfy

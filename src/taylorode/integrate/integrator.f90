@@ -436,7 +436,8 @@ contains
          h_natural = h
          last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
          if (last) h = t_target - t
-         if (h < self%options%h_min .or. h <= roundoff_steps*epsilon(1.0_dp)*abs(t) .or. .not. (h > 0.0_dp)) then
+         if (h < self%options%h_min .or. h <= max(roundoff_steps*epsilon(1.0_dp), self%options%h_min_relative)*abs(t) &
+            .or. .not. (h > 0.0_dp)) then
             write (text, '("integrate: step size ", a, " below the minimum step or the roundoff of t = ", a)') &
                trim(fixed_length_real(h, 7)), trim(fixed_length_real(t, 7))
             if (failures > 0) write (text, '(a, " after ", i0, " consecutive failed attempts, last: ", a)') &

@@ -103,6 +103,9 @@ module taylorode_integrate_options
       real(dp) :: h0 = 0.0_dp
       !> Smallest step size allowed (0: only the roundoff limit of t applies)
       real(dp) :: h_min = 0.0_dp
+      !> Smallest step size allowed relative to |t|, in [0, 1) (never below the roundoff
+      !> of t, 2 epsilon |t|; the legacy entry sets RADAU5's 10 UROUND)
+      real(dp) :: h_min_relative = 0.0_dp
       !> Largest step size allowed
       real(dp) :: h_max = huge(1.0_dp)
       !> Largest factor h_new / h after a step (0: no limit)
@@ -310,6 +313,9 @@ contains
       end if
       if (.not. finite_at_least(options%h_min, 0.0_dp)) then
          call invalid("h_min must be finite and >= 0"); return
+      end if
+      if (.not. finite_in(options%h_min_relative, 0.0_dp, 1.0_dp) .or. options%h_min_relative == 1.0_dp) then
+         call invalid("h_min_relative must be finite and in [0, 1)"); return
       end if
       if (.not. finite_at_least(options%h_max, 0.0_dp) .or. options%h_max == 0.0_dp .or. &
          options%h_max < options%h_min) then

@@ -323,7 +323,7 @@ contains
    end function taylorode_set_tolerance_vectors
 
    !> `taylorode_set_option`: a real or whole-number option by name ("h0", "h_min",
-   !> "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction", "max_steps",
+   !> "h_min_relative", "h_max", "kappa", "q", "max_growth", "min_shrink", "newton_fraction", "max_steps",
    !> "max_newton_iterations", "max_failures", "reuse_newton_matrix" (0 or 1),
    !> "controller" (0: i, 1: pi, 2: pid), "norm" (0: max, 1: rms)) or the problem's
    !> "autonomous" (1: f and g do not depend on t, 0: they may, the default), exactly
@@ -354,6 +354,7 @@ contains
          select case (option)
          case ("h0"); options%h0 = value
          case ("h_min"); options%h_min = value
+         case ("h_min_relative"); options%h_min_relative = value
          case ("h_max"); options%h_max = value
          case ("kappa"); options%kappa = value
          case ("q"); options%q = value

@@ -483,6 +483,8 @@ contains
          first = abs(h)
          if (first <= 10.0_dp*uround) first = merge(default_first_step, 0.0_dp, radau)
          options%h0 = min(first, hmax)
+         ! IDID = -3 when 0.1 |H| <= |X| UROUND, as RADAU5 decides it
+         options%h_min_relative = 10.0_dp*uround
          if (radau) then
             options%norm = norm_rms
             select type (scheme)
