@@ -109,6 +109,8 @@ test-checked: setup test-install
 # An allocation too large for any address space returns NULL (a status of the library's
 # own; by default the sanitizer stops the program there).
 test-sanitize: export ASAN_OPTIONS ?= detect_leaks=0:allocator_may_return_null=1
+# an undefined-behaviour report stops the test program (a failure), not a line in the log
+test-sanitize: export UBSAN_OPTIONS ?= halt_on_error=1:print_stacktrace=1
 test-sanitize: setup test-install
 	$(call fpm_test,--profile debug --flag "$(SANITIZE_FLAGS)" --c-flag "$(SANITIZE_FLAGS)" --link-flag "$(SANITIZE_FLAGS)")
 
