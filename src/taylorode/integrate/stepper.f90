@@ -403,7 +403,7 @@ contains
       real(dp), intent(out) :: h_next
       !> Why a failed attempt failed (its code)
       type(status_type), intent(inout) :: step_stat
-      real(dp) :: factor, hold_low, hold_high, propagation
+      real(dp) :: factor, hold_low, hold_high, propagation, first_factor
       integer :: i
       logical :: refined, delta_propagated
 
@@ -508,8 +508,10 @@ contains
       end if
       ! before the first accepted step a scheme may have a rule of its own (radau5 as
       ! RADAU5: h/10), which the options' limits do not bound
-      if (err > 1.0_dp .and. self%h_previous == 0.0_dp .and. scheme%first_rejection_factor() > 0.0_dp) &
-         factor = scheme%first_rejection_factor()
+      if (err > 1.0_dp .and. self%h_previous == 0.0_dp) then
+         first_factor = scheme%first_rejection_factor()
+         if (first_factor > 0.0_dp) factor = first_factor
+      end if
       h_next = min(factor*h, options%h_max)
       if (err <= 1.0_dp) then
          outcome = attempt_accepted
