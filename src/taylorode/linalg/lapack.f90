@@ -339,7 +339,7 @@ contains
       !> Superdiagonals of U that hold entries (see `narrow_band_lu_factor_real`)
       integer, intent(out), optional :: upper_width
       integer :: n, kv, i, j, jp, ju, km, c, width
-      real(dp) :: largest, xr, xi, minus_im
+      real(dp) :: largest
       complex(dp) :: swap, reciprocal_pivot, factor
 
       n = size(ab, 2)
@@ -381,25 +381,13 @@ contains
          reciprocal_pivot = reciprocal(ab(kv + 1, j))
          if (present(inverse_diagonal)) inverse_diagonal(j) = reciprocal_pivot
          if (km > 0) then
-            ! (the complex products as sums of two real products, as in small_lu_factor_complex)
-            minus_im = -reciprocal_pivot%im
-            do i = 1, km
-               xr = ab(kv + 1 + i, j)%re
-               xi = ab(kv + 1 + i, j)%im
-               ab(kv + 1 + i, j)%re = xr*reciprocal_pivot%re + xi*minus_im
-               ab(kv + 1 + i, j)%im = xi*reciprocal_pivot%re + xr*reciprocal_pivot%im
-            end do
+            call scale_complex(km, reciprocal_pivot%re, reciprocal_pivot%im, ab(kv + 2:kv + 1 + km, j))
+            ! A(j+i, c) = A(j+i, c) - A(j, c) l_i (zaxpy's sum with -A(j, c): the same rounding)
             do c = j + 1, ju
-               factor = -ab(kv + 1 - (c - j), c)
+               factor = ab(kv + 1 - (c - j), c)
                if (factor == (0.0_dp, 0.0_dp)) cycle
-               minus_im = -factor%im
-               !GCC$ novector
-               do i = 1, km
-                  xr = ab(kv + 1 + i, j)%re
-                  xi = ab(kv + 1 + i, j)%im
-                  ab(kv + 1 + i - (c - j), c)%re = ab(kv + 1 + i - (c - j), c)%re + (xr*factor%re + xi*minus_im)
-                  ab(kv + 1 + i - (c - j), c)%im = ab(kv + 1 + i - (c - j), c)%im + (xi*factor%re + xr*factor%im)
-               end do
+               call subtract_multiple(km, factor%re, factor%im, ab(kv + 2:kv + 1 + km, j), &
+                  ab(kv + 2 - (c - j):kv + 1 + km - (c - j), c))
             end do
          end if
       end do
@@ -1264,7 +1252,7 @@ contains
       !> 1/U(k, k), for solves that multiply instead of divide
       complex(dp), intent(out), optional :: inverse_diagonal(n)
       integer :: i, j, k, p
-      real(dp) :: largest, xr, xi, minus_pivot_im
+      real(dp) :: largest
       complex(dp) :: pivot, swap, factor
 
       if (n <= 4) then
@@ -1298,17 +1286,7 @@ contains
          end if
          pivot = reciprocal(a(k, k))
          if (present(inverse_diagonal)) inverse_diagonal(k) = pivot
-         ! (the complex products as sums of two real products each, x p = (xr pr + xi (-pi),
-         ! xi pr + xr pi), the same rounding as x*p: gfortran then computes the two parts
-         ! in one pass, where it formed both a sum and a difference and merged them)
-         minus_pivot_im = -pivot%im
-         !GCC$ unroll 1
-         do i = k + 1, n
-            xr = a(i, k)%re
-            xi = a(i, k)%im
-            a(i, k)%re = xr*pivot%re + xi*minus_pivot_im
-            a(i, k)%im = xi*pivot%re + xr*pivot%im
-         end do
+         call scale_complex(n - k, pivot%re, pivot%im, a(k + 1:n, k))
          !GCC$ unroll 1
          do j = k + 1, n
             factor = a(k, j)
@@ -1318,10 +1296,30 @@ contains
       end do
    end subroutine small_lu_factor_complex
 
-   !> y = y - (fr + i fi) x: the complex product's arithmetic, (fr xr - fi xi, fr xi + fi
-   !> xr), with fr xr - fi xi written fr xr + (-fi) xi (the same rounding), so that
-   !> both parts are a sum of two products and the pair is computed in one pass
-   !> (explicit-shape: the columns of `small_lu_factor_complex`'s matrix).
+   !> x = x (pr + i pi), the complex factorizations' multipliers: the complex product's
+   !> arithmetic, (xr pr - xi pi, xr pi + xi pr), with xr pr - xi pi written xr pr + xi
+   !> (-pi) (the same rounding), so that both parts are a sum of two products, which
+   !> gfortran computes in one pass of packed operations (for x*p it formed a sum and a
+   !> difference and merged them). Explicit-shape: a column's contiguous run.
+   pure subroutine scale_complex(m, pr, pi, x)
+      integer, intent(in) :: m
+      real(dp), intent(in) :: pr, pi
+      complex(dp), intent(inout) :: x(m)
+      integer :: i
+      real(dp) :: xr, xi, minus_pi
+      minus_pi = -pi
+      !GCC$ unroll 1
+      do i = 1, m
+         xr = x(i)%re
+         xi = x(i)%im
+         x(i)%re = xr*pr + xi*minus_pi
+         x(i)%im = xi*pr + xr*pi
+      end do
+   end subroutine scale_complex
+
+   !> y = y - (fr + i fi) x, the complex factorizations' update of a column: as in
+   !> `scale_complex`, the product's parts (fr xr - fi xi, fr xi + fi xr) as sums of
+   !> two products, fr xr + (-fi) xi the first (explicit-shape: contiguous runs).
    pure subroutine subtract_multiple(m, fr, fi, x, y)
       integer, intent(in) :: m
       real(dp), intent(in) :: fr, fi
