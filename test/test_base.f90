@@ -7,7 +7,8 @@ module test_base
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, small_lu_factor, &
       small_lu_solve, small_lu_solve_pair, complex_lu_factor, complex_lu_solve, narrow_band_lu_factor, &
       narrow_band_lu_solve, complex_band_lu_factor, complex_band_lu_solve
-   use taylorode_base_status, only: status_type, status_ok
+   use taylorode_base_status, only: status_type, status_ok, status_nonfinite, status_singular_matrix
+   use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_linalg_matrix, only: matrix_type, band_matrix_type, dense_matrix_type, matrix_structure_type, &
       new_matrix, storage_band, storage_dense
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_quiet_nan
@@ -29,7 +30,8 @@ contains
          new_unittest("band-product-both-orders", test_band_product), &
          new_unittest("pair-solve-equals-single-solves", test_pair_solve), &
          new_unittest("tiny-lu-equals-column-elimination", test_tiny_lu), &
-         new_unittest("matrix-finiteness-every-entry", test_all_finite) &
+         new_unittest("matrix-finiteness-every-entry", test_all_finite), &
+         new_unittest("band-factor-failures-named", test_band_factor_failures) &
          ]
    end subroutine collect_base
 
@@ -141,12 +143,16 @@ contains
                   call narrow_band_lu_factor(band, kl, ku, band_pivots, info, upper_width=width)
                   call check(error, width, min(ku, n - 1), label//": upper width without interchanges")
                   if (allocated(error)) return
+                  ! the reciprocal pivots on U's diagonal: the same factors otherwise, and
+                  ! 1/U(j, j) as the division computes it
                   band = original
-                  allocate (inverse(n))
-                  call narrow_band_lu_factor(band, kl, ku, band_pivots, info, inverse)
+                  call narrow_band_lu_factor(band, kl, ku, band_pivots, info, reciprocal_diagonal=.true.)
+                  call check(error, all(band(:kl + ku, :) == ab(:kl + ku, :)) .and. &
+                     all(band(kl + ku + 2:, :) == ab(kl + ku + 2:, :)) .and. &
+                     all(band(kl + ku + 1, :) == 1.0_dp/ab(kl + ku + 1, :)), label//": reciprocal pivots on the diagonal")
+                  if (allocated(error)) return
                   y = b
-                  call narrow_band_lu_solve(band, kl, ku, band_pivots, y, inverse)
-                  deallocate (inverse)
+                  call narrow_band_lu_solve(band, kl, ku, band_pivots, y, reciprocal_diagonal=.true.)
                   call check(error, maxval(abs(x - y)) <= 1.0e-12_dp*maxval(abs(x)), label//": reciprocal pivots")
                   if (allocated(error)) return
                else
@@ -162,13 +168,16 @@ contains
    !> The written-out complex band LU (radau5's second Newton matrix on banded problems)
    !> chooses zgbtrf's pivots and gives its factors to 1e-13 relative (the multipliers
    !> are scaled by the pivot's reciprocal, computed apart), and zgbtrs's solutions to
-   !> 1e-12 relative, with LAPACK's division or the reciprocal pivots and over the upper
-   !> width it reports, for bandwidths 0 to 5 with n from 1 to 40, on pseudo-random
-   !> matrices that need row interchanges; a zero column is the first zero pivot.
+   !> 1e-12 relative (the solve takes the real and imaginary parts apart), with LAPACK's
+   !> division or the reciprocal pivots on U's diagonal (the same factors otherwise) and
+   !> over the upper width it reports, for bandwidths 0 to 5 with n from 1 to 40, on
+   !> pseudo-random matrices that need row interchanges; a zero column is the first
+   !> zero pivot.
    subroutine test_written_out_complex_band_lu(error)
       type(error_type), allocatable, intent(out) :: error
       integer, parameter :: orders(4) = [1, 2, 7, 40]
-      complex(dp), allocatable :: ab(:, :), band(:, :), original(:, :), b(:), x(:), y(:), inverse(:)
+      complex(dp), allocatable :: ab(:, :), band(:, :), original(:, :), b(:), x(:)
+      real(dp), allocatable :: re(:), im(:)
       integer, allocatable :: pivots(:), band_pivots(:)
       integer :: n, i, j, k, kl, ku, info, info_lapack, width
       integer(i8) :: state
@@ -182,7 +191,7 @@ contains
                label = "complex band n = "//format_integer(n)//", kl = "//format_integer(kl)//", ku = "// &
                   format_integer(ku)
                allocate (ab(2*kl + ku + 1, n), band(2*kl + ku + 1, n), original(2*kl + ku + 1, n), b(n), x(n), &
-                  y(n), pivots(n), band_pivots(n), inverse(n))
+                  pivots(n), band_pivots(n))
                ab = (0.0_dp, 0.0_dp)
                do j = 1, n
                   do i = max(1, j - ku), min(n, j + kl)
@@ -194,14 +203,14 @@ contains
                original = ab
                band = ab
                call complex_band_lu_factor(band, kl, ku, pivots, info_lapack)
-               call narrow_band_lu_factor(ab, kl, ku, band_pivots, info, inverse, width)
+               call narrow_band_lu_factor(ab, kl, ku, band_pivots, info, upper_width=width)
                call check(error, info == info_lapack .and. all(pivots == band_pivots), &
                   label//": pivots differ from zgbtrf")
                if (allocated(error)) return
                if (info /= 0) then
                   call check(error, info, 17, label//": the zero column is the first zero pivot")
                   if (allocated(error)) return
-                  deallocate (ab, band, original, b, x, y, pivots, band_pivots, inverse)
+                  deallocate (ab, band, original, b, x, pivots, band_pivots)
                   cycle
                end if
                call check(error, maxval(abs(ab(kl + 1:, :) - band(kl + 1:, :))) <= &
@@ -212,16 +221,27 @@ contains
                if (allocated(error)) return
                x = b
                call complex_band_lu_solve(band, kl, ku, pivots, x, info_lapack)
-               y = b
-               call narrow_band_lu_solve(ab, kl, ku, band_pivots, y)
-               call check(error, maxval(abs(x - y)) <= 1.0e-12_dp*maxval(abs(x)), label//": solution differs from zgbtrs")
+               re = b%re
+               im = b%im
+               call narrow_band_lu_solve(ab, kl, ku, band_pivots, re, im)
+               call check(error, maxval(abs(x - cmplx(re, im, dp))) <= 1.0e-12_dp*maxval(abs(x)), &
+                  label//": solution differs from zgbtrs")
                if (allocated(error)) return
-               y = b
-               call narrow_band_lu_solve(ab, kl, ku, band_pivots, y, inverse, width)
-               call check(error, maxval(abs(x - y)) <= 1.0e-12_dp*maxval(abs(x)), &
+               band = original
+               call narrow_band_lu_factor(band, kl, ku, band_pivots, info, reciprocal_diagonal=.true.)
+               call check(error, all(band(:kl + ku, :) == ab(:kl + ku, :)) .and. &
+                  all(band(kl + ku + 2:, :) == ab(kl + ku + 2:, :)) .and. &
+                  maxval(abs(band(kl + ku + 1, :)*ab(kl + ku + 1, :) - 1.0_dp)) <= 4.0e-15_dp, &
+                  label//": reciprocal pivots on the diagonal")
+               if (allocated(error)) return
+               re = b%re
+               im = b%im
+               call narrow_band_lu_solve(band, kl, ku, band_pivots, re, im, reciprocal_diagonal=.true., &
+                  upper_width=width)
+               call check(error, maxval(abs(x - cmplx(re, im, dp))) <= 1.0e-12_dp*maxval(abs(x)), &
                   label//": reciprocal pivots over the upper width")
                if (allocated(error)) return
-               deallocate (ab, band, original, b, x, y, pivots, band_pivots, inverse)
+               deallocate (ab, band, original, b, x, pivots, band_pivots)
             end do
          end do
       end do
@@ -369,6 +389,49 @@ contains
          end do
       end select
    end subroutine test_all_finite
+
+   !> The linear solver's band factorization (the written-out band LU, which keeps
+   !> 1/U(j, j) on U's diagonal) names its failures: a pivot of -Inf (as an overflow in
+   !> the elimination leaves it) is status_nonfinite (its reciprocal is 0), an exact zero pivot
+   !> status_singular_matrix; a regular matrix of the same pattern factors and solves.
+   subroutine test_band_factor_failures(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_solver_type) :: solver
+      type(status_type) :: stat
+      real(dp) :: x(2)
+      ! (-Inf given, not reached by an overflow, which the checked build traps)
+      call factor_band([1.0_dp, 0.5_dp, 1.0_dp, -ieee_value(1.0_dp, ieee_positive_inf)], status_nonfinite, &
+         "a pivot of -Inf")
+      if (allocated(error)) return
+      call factor_band([1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], status_singular_matrix, "a zero pivot")
+      if (allocated(error)) return
+      call factor_band([2.0_dp, 1.0_dp, 1.0_dp, 3.0_dp], status_ok, "a regular matrix")
+      if (allocated(error)) return
+      ! [2 1; 1 3] x = [3; 4]: x = [1; 1]
+      x = [3.0_dp, 4.0_dp]
+      call solver%solve(x, stat)
+      call check(error, stat%code == status_ok .and. maxval(abs(x - 1.0_dp)) <= 4.0_dp*epsilon(1.0_dp), &
+         "the regular matrix's solution: "//format_real(x(1))//", "//format_real(x(2)))
+   contains
+      !> Factor the 2 x 2 band matrix [a11 a12; a21 a22] (entries in column order) and
+      !> check the status.
+      subroutine factor_band(entries, expected, what)
+         real(dp), intent(in) :: entries(4)
+         integer, intent(in) :: expected
+         character(len=*), intent(in) :: what
+         stat = status_type()
+         call new_linear_solver(solver, 2, matrix_structure_type(storage_band, 1, 1), stat)
+         select type (a => solver%matrix)
+         type is (band_matrix_type)
+            a%ab(a%diagonal, 1) = entries(1)
+            a%ab(a%diagonal + 1, 1) = entries(2)
+            a%ab(a%diagonal - 1, 2) = entries(3)
+            a%ab(a%diagonal, 2) = entries(4)
+         end select
+         call solver%factor(stat)
+         call check(error, stat%code, expected, what//": the factorization's status")
+      end subroutine factor_band
+   end subroutine test_band_factor_failures
 
    !> small_lu_solve_pair (a real and a complex system in one pass, Radau IIA's two)
    !> gives the real solution of small_lu_solve with the reciprocal pivots bit for bit,

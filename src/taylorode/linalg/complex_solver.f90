@@ -36,11 +36,11 @@ module taylorode_linalg_complex_solver
       complex(dp), allocatable :: a(:, :)
       !> Row interchanges of the factorization
       integer, allocatable :: pivots(:)
-      !> Reciprocals of the pivots (band matrices factored by the written-out band LU)
-      complex(dp), allocatable :: inverse_diagonal(:)
-      !> Superdiagonals of the band factor U that hold entries (written-out band LU)
+      !> Superdiagonals of the band factor U that hold entries (written-out band LU, which
+      !> keeps the reciprocals of the pivots on U's diagonal)
       integer :: upper_width = 0
-      !> Right-hand side work space of `solve_parts`
+      !> Right-hand side work space of `solve_parts` for LAPACK's solves (the written-out
+      !> band solve takes the parts as they are)
       complex(dp), allocatable :: work(:)
       !> Whether `a` holds valid factors
       logical :: factored = .false.
@@ -49,8 +49,6 @@ module taylorode_linalg_complex_solver
       procedure :: assemble
       !> Factor the assembled matrix in place
       procedure :: factor
-      !> x = (s I - J)^(-1) x, complex x
-      procedure :: solve
       !> (re + i im) = (s I - J)^(-1) (re + i im), real and imaginary parts apart
       procedure :: solve_parts
    end type complex_solver_type
@@ -100,14 +98,13 @@ contains
       solver%n = n
       solver%storage = structure%storage
       solver%a = (0.0_dp, 0.0_dp)
-      ! the reciprocal pivots only for the written-out band LU
+      ! the work space only for LAPACK's solves
       written_out = solver%storage == storage_band .and. solver%kl <= narrow_band_max_width
-      allocate (solver%pivots(n), solver%work(n), stat=memory)
-      if (memory == 0 .and. written_out) allocate (solver%inverse_diagonal(n), stat=memory)
+      allocate (solver%pivots(n), stat=memory)
+      if (memory == 0 .and. .not. written_out) allocate (solver%work(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%a)
-         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", &
-            [merge(3, 2, written_out), n], complex_bytes)
+         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [2, n], complex_bytes)
       end if
    end subroutine new_complex_solver
 
@@ -272,8 +269,8 @@ contains
       type(status_type), intent(inout) :: stat
       integer :: info
       if (self%storage == storage_band .and. self%kl <= narrow_band_max_width) then
-         call narrow_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info, self%inverse_diagonal, &
-            self%upper_width)
+         call narrow_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info, reciprocal_diagonal=.true., &
+            upper_width=self%upper_width)
       else if (self%storage == storage_band) then
          call complex_band_lu_factor(self%a, self%kl, self%ku, self%pivots, info)
       else
@@ -287,29 +284,6 @@ contains
       end if
    end subroutine factor
 
-   !> Solve (s I - J) x = b with the factors; x holds b on entry.
-   subroutine solve(self, x, stat)
-      !> The solver, factored
-      class(complex_solver_type), intent(in) :: self
-      !> Right-hand side on entry, solution on exit
-      complex(dp), contiguous, intent(inout) :: x(:)
-      !> status_invalid_argument when there are no factors or x has the wrong size
-      type(status_type), intent(inout) :: stat
-      integer :: info
-      if (.not. self%factored .or. size(x) /= self%n) then
-         call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
-         return
-      end if
-      if (self%storage == storage_band .and. self%kl <= narrow_band_max_width) then
-         call narrow_band_lu_solve(self%a, self%kl, self%ku, self%pivots, x, self%inverse_diagonal, &
-            self%upper_width)
-      else if (self%storage == storage_band) then
-         call complex_band_lu_solve(self%a, self%kl, self%ku, self%pivots, x, info)
-      else
-         call complex_lu_solve(self%a, self%pivots, x, info)
-      end if
-   end subroutine solve
-
    !> Solve (s I - J)(x_re + i x_im) = b_re + i b_im with the factors; re and im
    !> hold the parts of b on entry and those of x on exit.
    subroutine solve_parts(self, re, im, stat)
@@ -321,19 +295,29 @@ contains
       real(dp), contiguous, intent(inout) :: im(:)
       !> status_invalid_argument when there are no factors or the sizes are wrong
       type(status_type), intent(inout) :: stat
-      integer :: i
+      integer :: i, info
       if (.not. self%factored .or. size(re) /= self%n .or. size(im) /= self%n) then
          call set_status(stat, status_invalid_argument, "complex solver: no factors for a system of this size")
+         return
+      end if
+      if (self%storage == storage_band .and. self%kl <= narrow_band_max_width) then
+         call narrow_band_lu_solve(self%a, self%kl, self%ku, self%pivots, re, im, reciprocal_diagonal=.true., &
+            upper_width=self%upper_width)
          return
       end if
       do i = 1, self%n
          self%work(i) = cmplx(re(i), im(i), dp)
       end do
-      call self%solve(self%work, stat)
+      if (self%storage == storage_band) then
+         call complex_band_lu_solve(self%a, self%kl, self%ku, self%pivots, self%work, info)
+      else
+         call complex_lu_solve(self%a, self%pivots, self%work, info)
+      end if
       do i = 1, self%n
          re(i) = self%work(i)%re
          im(i) = self%work(i)%im
       end do
+      if (info /= 0) call set_status(stat, status_invalid_argument, "complex solver: LAPACK rejected the solve")
    end subroutine solve_parts
 
 end module taylorode_linalg_complex_solver

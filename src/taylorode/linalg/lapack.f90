@@ -10,10 +10,11 @@
 !> of printing a message and stopping the program.
 !>
 !> `narrow_band_lu_factor` and `narrow_band_lu_solve` are dgbtrf's unblocked path
-!> (dgbtf2) and dgbtrs written out, operation for operation, for narrow bands (the
-!> solve optionally multiplies by the reciprocals of the pivots), and for complex
-!> matrices zgbtrf's and zgbtrs's (radau5's second Newton matrix on banded problems,
-!> where zgbtrs's BLAS calls per column cost more than their arithmetic).
+!> (dgbtf2) and dgbtrs written out, operation for operation, for narrow bands
+!> (optionally with the reciprocals of the pivots on U's diagonal, which the solve
+!> multiplies by), and for complex matrices zgbtrf's and zgbtrs's (radau5's second
+!> Newton matrix on banded problems, where zgbtrs's BLAS calls per column cost more
+!> than their arithmetic; the solve takes the real and imaginary parts apart).
 !>
 !> Beside them, `small_lu_factor` and `small_lu_solve`: the same LU with partial
 !> pivoting (LAPACK's pivot choice and factor layout) written out for the tiny
@@ -158,7 +159,7 @@ contains
    !> dgbtf2 (which dgbtrf runs for bands up to its block size) operation for
    !> operation, without a BLAS call per column. Storage as `band_lu_factor`; the
    !> caller checks the sizes. info = j > 0: U(j, j) is exactly zero.
-   pure subroutine narrow_band_lu_factor_real(ab, kl, ku, ipiv, info, inverse_diagonal, upper_width)
+   pure subroutine narrow_band_lu_factor_real(ab, kl, ku, ipiv, info, reciprocal_diagonal, upper_width)
       !> Band matrix on entry, its LU factors on exit
       real(dp), contiguous, intent(inout) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -167,18 +168,22 @@ contains
       integer, contiguous, intent(out) :: ipiv(:)
       !> 0 success, j > 0 singular (first zero pivot)
       integer, intent(out) :: info
-      !> 1/U(j, j), for solves that multiply instead of dividing (the back substitution
-      !> chains one division per row)
-      real(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
+      !> Whether U's diagonal is stored as 1/U(j, j) (0 for a zero pivot), for solves that
+      !> multiply instead of dividing (the back substitution chains one division per row);
+      !> default: U(j, j), LAPACK's layout
+      logical, intent(in), optional :: reciprocal_diagonal
       !> Superdiagonals of U that hold entries: ku without row interchanges, at most
       !> kl + ku (solves skip the others, which stay zero)
       integer, intent(out), optional :: upper_width
       integer :: n, kv, i, j, jp, ju, km, c, width
       real(dp) :: largest, swap, reciprocal_pivot, factor
+      logical :: reciprocal
 
       n = size(ab, 2)
       kv = ku + kl
       info = 0
+      reciprocal = .false.
+      if (present(reciprocal_diagonal)) reciprocal = reciprocal_diagonal
       ! the fill-in rows above the band start as zeros
       do j = ku + 2, min(kv, n)
          do i = kv - j + 2, kl
@@ -202,7 +207,6 @@ contains
          ipiv(j) = jp + j - 1
          if (ab(kv + jp, j) == 0.0_dp) then
             if (info == 0) info = j
-            if (present(inverse_diagonal)) inverse_diagonal(j) = 0.0_dp
             cycle
          end if
          ju = max(ju, min(j + ku + jp - 1, n))
@@ -215,9 +219,9 @@ contains
                ab(kv + 1 - (c - j), c) = swap
             end do
          end if
-         if (present(inverse_diagonal)) inverse_diagonal(j) = 1.0_dp/ab(kv + 1, j)
+         reciprocal_pivot = 1.0_dp/ab(kv + 1, j)
+         if (reciprocal) ab(kv + 1, j) = reciprocal_pivot
          if (km > 0) then
-            reciprocal_pivot = 1.0_dp/ab(kv + 1, j)
             do i = 1, km
                ab(kv + 1 + i, j) = ab(kv + 1 + i, j)*reciprocal_pivot
             end do
@@ -243,7 +247,7 @@ contains
    !> arithmetic), so the value just found stays in a register and, with the
    !> reciprocal pivots, enters its row last through one multiply and one subtraction
    !> (the Brusselators' runs of si-t-2, i-t-2 and radau5: 0.84 of their time, median).
-   pure subroutine narrow_band_lu_solve_real(ab, kl, ku, ipiv, b, inverse_diagonal, upper_width)
+   pure subroutine narrow_band_lu_solve_real(ab, kl, ku, ipiv, b, reciprocal_diagonal, upper_width)
       !> LU factors
       real(dp), contiguous, intent(in) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -252,17 +256,21 @@ contains
       integer, contiguous, intent(in) :: ipiv(:)
       !> Right-hand side on entry, solution on exit
       real(dp), contiguous, intent(inout) :: b(:)
-      !> 1/U(j, j) from `narrow_band_lu_factor`: multiplied instead of dividing by U(j, j)
-      real(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
+      !> Whether U's diagonal holds 1/U(j, j) (`narrow_band_lu_factor` with
+      !> reciprocal_diagonal): multiplied instead of dividing by U(j, j); default .false.
+      logical, intent(in), optional :: reciprocal_diagonal
       !> `upper_width` from `narrow_band_lu_factor` (default kl + ku)
       integer, intent(in), optional :: upper_width
       integer :: n, kd, j, i, l, lm, width
       real(dp) :: swap, factor, total, carry
+      logical :: reciprocal
 
       n = size(ab, 2)
       kd = kl + ku + 1
       width = kl + ku
       if (present(upper_width)) width = min(upper_width, width)
+      reciprocal = .false.
+      if (present(reciprocal_diagonal)) reciprocal = reciprocal_diagonal
       if (kl > 0 .and. n > 1) then
          ! the value of b(j + 1) just updated stays in `carry` for the next row (unless
          ! a row interchange brings another): the rows chain through one multiply and
@@ -291,11 +299,11 @@ contains
       ! x(j + 1), found just before, enters last, so that each row waits for the one
       ! before it only through that term (the solve is bound by this chain, not by
       ! the arithmetic)
-      if (present(inverse_diagonal) .and. width > 0) then
+      if (reciprocal .and. width > 0) then
          ! x(j) = (b(j) - sum_(i >= 2) U(j, j + i) x(j + i))/U(j, j) - (U(j, j + 1)/U(j, j)) x(j + 1),
          ! x(j + 1), found just before, kept in `carry`: the rows chain through one multiply
          ! and one subtraction (the other terms use values found two or more rows before)
-         carry = b(n)*inverse_diagonal(n)
+         carry = b(n)*ab(kd, n)
          b(n) = carry
          do j = n - 1, 1, -1
             total = b(j)
@@ -303,7 +311,7 @@ contains
             do i = min(width, n - j), 2, -1
                total = total - ab(kd - i, j + i)*b(j + i)
             end do
-            carry = total*inverse_diagonal(j) - (ab(kd - 1, j + 1)*inverse_diagonal(j))*carry
+            carry = total*ab(kd, j) - (ab(kd - 1, j + 1)*ab(kd, j))*carry
             b(j) = carry
          end do
          return
@@ -314,8 +322,8 @@ contains
          do i = min(width, n - j), 1, -1
             total = total - ab(kd - i, j + i)*b(j + i)
          end do
-         if (present(inverse_diagonal)) then
-            b(j) = total*inverse_diagonal(j)
+         if (reciprocal) then
+            b(j) = total*ab(kd, j)
          else
             b(j) = total/ab(kd, j)
          end if
@@ -325,7 +333,7 @@ contains
    !> Complex counterpart of `narrow_band_lu_factor_real`: LAPACK's zgbtf2 (which zgbtrf
    !> runs for such bands) written out, the pivot of largest |Re| + |Im| (izamax's
    !> measure), the multipliers scaled by the pivot's reciprocal (`reciprocal`).
-   pure subroutine narrow_band_lu_factor_complex(ab, kl, ku, ipiv, info, inverse_diagonal, upper_width)
+   pure subroutine narrow_band_lu_factor_complex(ab, kl, ku, ipiv, info, reciprocal_diagonal, upper_width)
       !> Band matrix on entry, its LU factors on exit
       complex(dp), contiguous, intent(inout) :: ab(:, :)
       !> Lower and upper bandwidths
@@ -334,17 +342,20 @@ contains
       integer, contiguous, intent(out) :: ipiv(:)
       !> 0 success, j > 0 singular (first zero pivot)
       integer, intent(out) :: info
-      !> 1/U(j, j), for solves that multiply instead of dividing
-      complex(dp), contiguous, intent(out), optional :: inverse_diagonal(:)
+      !> Whether U's diagonal is stored as 1/U(j, j) (see `narrow_band_lu_factor_real`)
+      logical, intent(in), optional :: reciprocal_diagonal
       !> Superdiagonals of U that hold entries (see `narrow_band_lu_factor_real`)
       integer, intent(out), optional :: upper_width
       integer :: n, kv, i, j, jp, ju, km, c, width
       real(dp) :: largest
       complex(dp) :: swap, reciprocal_pivot, factor
+      logical :: reciprocal_stored
 
       n = size(ab, 2)
       kv = ku + kl
       info = 0
+      reciprocal_stored = .false.
+      if (present(reciprocal_diagonal)) reciprocal_stored = reciprocal_diagonal
       do j = ku + 2, min(kv, n)
          do i = kv - j + 2, kl
             ab(i, j) = (0.0_dp, 0.0_dp)
@@ -366,7 +377,6 @@ contains
          ipiv(j) = jp + j - 1
          if (largest == 0.0_dp) then
             if (info == 0) info = j
-            if (present(inverse_diagonal)) inverse_diagonal(j) = (0.0_dp, 0.0_dp)
             cycle
          end if
          ju = max(ju, min(j + ku + jp - 1, n))
@@ -379,7 +389,7 @@ contains
             end do
          end if
          reciprocal_pivot = reciprocal(ab(kv + 1, j))
-         if (present(inverse_diagonal)) inverse_diagonal(j) = reciprocal_pivot
+         if (reciprocal_stored) ab(kv + 1, j) = reciprocal_pivot
          if (km > 0) then
             call scale_complex(km, reciprocal_pivot%re, reciprocal_pivot%im, ab(kv + 2:kv + 1 + km, j))
             ! A(j+i, c) = A(j+i, c) - A(j, c) l_i (zaxpy's sum with -A(j, c): the same rounding)
@@ -395,78 +405,90 @@ contains
    end subroutine narrow_band_lu_factor_complex
 
    !> Complex counterpart of `narrow_band_lu_solve_real` (the same order of operations),
-   !> with the factors of `narrow_band_lu_factor_complex`; b is overwritten by x.
-   pure subroutine narrow_band_lu_solve_complex(ab, kl, ku, ipiv, b, inverse_diagonal, upper_width)
+   !> with the factors of `narrow_band_lu_factor_complex`, on the real and imaginary parts
+   !> apart (radau5's second stage pair: no complex copy of the right-hand side); re and
+   !> im hold those of b on entry, of x on exit.
+   pure subroutine narrow_band_lu_solve_complex(ab, kl, ku, ipiv, re, im, reciprocal_diagonal, upper_width)
       !> LU factors
       complex(dp), contiguous, intent(in) :: ab(:, :)
       !> Lower and upper bandwidths
       integer, intent(in) :: kl, ku
       !> Pivot indices
       integer, contiguous, intent(in) :: ipiv(:)
-      !> Right-hand side on entry, solution on exit
-      complex(dp), contiguous, intent(inout) :: b(:)
-      !> 1/U(j, j) from `narrow_band_lu_factor_complex` (multiplied instead of dividing)
-      complex(dp), contiguous, intent(in), optional :: inverse_diagonal(:)
+      !> Real part of the right-hand side on entry, of the solution on exit
+      real(dp), contiguous, intent(inout) :: re(:)
+      !> Imaginary part of the right-hand side on entry, of the solution on exit
+      real(dp), contiguous, intent(inout) :: im(:)
+      !> Whether U's diagonal holds 1/U(j, j) (multiplied instead of dividing); default .false.
+      logical, intent(in), optional :: reciprocal_diagonal
       !> `upper_width` from `narrow_band_lu_factor_complex` (default kl + ku)
       integer, intent(in), optional :: upper_width
       integer :: n, kd, j, i, l, lm, width
-      complex(dp) :: swap, factor, total, carry
+      complex(dp) :: factor, total, carry, updated
+      logical :: reciprocal_stored
 
       n = size(ab, 2)
       kd = kl + ku + 1
       width = kl + ku
       if (present(upper_width)) width = min(upper_width, width)
+      reciprocal_stored = .false.
+      if (present(reciprocal_diagonal)) reciprocal_stored = reciprocal_diagonal
       if (kl > 0 .and. n > 1) then
          ! the value of b(j + 1) just updated stays in `carry` for the next row (unless
          ! a row interchange brings another): the rows chain through one multiply and
          ! one subtraction, not through a store and a load as well
-         carry = b(1)
+         carry = cmplx(re(1), im(1), dp)
          do j = 1, n - 1
             lm = min(kl, n - j)
             l = ipiv(j)
             if (l /= j) then
-               swap = b(l)
-               b(l) = b(j)
-               b(j) = swap
-               carry = swap
+               call exchange_parts(re, im, j, l)
+               carry = cmplx(re(j), im(j), dp)
             end if
             factor = carry
-            carry = b(j + 1) - ab(kd + 1, j)*factor
-            b(j + 1) = carry
+            carry = cmplx(re(j + 1), im(j + 1), dp) - ab(kd + 1, j)*factor
+            re(j + 1) = carry%re
+            im(j + 1) = carry%im
             !GCC$ novector
             do i = 2, lm
-               b(j + i) = b(j + i) - ab(kd + i, j)*factor
+               updated = cmplx(re(j + i), im(j + i), dp) - ab(kd + i, j)*factor
+               re(j + i) = updated%re
+               im(j + i) = updated%im
             end do
          end do
       end if
-      if (present(inverse_diagonal) .and. width > 0) then
+      if (reciprocal_stored .and. width > 0) then
          ! x(j) = (b(j) - sum_(i >= 2) U(j, j + i) x(j + i))/U(j, j) - (U(j, j + 1)/U(j, j)) x(j + 1),
          ! x(j + 1), found just before, kept in `carry`: the rows chain through one multiply
          ! and one subtraction (the other terms use values found two or more rows before)
-         carry = b(n)*inverse_diagonal(n)
-         b(n) = carry
+         carry = cmplx(re(n), im(n), dp)*ab(kd, n)
+         re(n) = carry%re
+         im(n) = carry%im
          do j = n - 1, 1, -1
-            total = b(j)
+            total = cmplx(re(j), im(j), dp)
             !GCC$ novector
             do i = min(width, n - j), 2, -1
-               total = total - ab(kd - i, j + i)*b(j + i)
+               total = total - ab(kd - i, j + i)*cmplx(re(j + i), im(j + i), dp)
             end do
-            carry = total*inverse_diagonal(j) - (ab(kd - 1, j + 1)*inverse_diagonal(j))*carry
-            b(j) = carry
+            carry = total*ab(kd, j) - (ab(kd - 1, j + 1)*ab(kd, j))*carry
+            re(j) = carry%re
+            im(j) = carry%im
          end do
          return
       end if
       do j = n, 1, -1
-         total = b(j)
+         total = cmplx(re(j), im(j), dp)
          !GCC$ novector
          do i = min(width, n - j), 1, -1
-            total = total - ab(kd - i, j + i)*b(j + i)
+            total = total - ab(kd - i, j + i)*cmplx(re(j + i), im(j + i), dp)
          end do
-         if (present(inverse_diagonal)) then
-            b(j) = total*inverse_diagonal(j)
+         if (reciprocal_stored) then
+            total = total*ab(kd, j)
          else
-            b(j) = total/ab(kd, j)
+            total = total/ab(kd, j)
          end if
+         re(j) = total%re
+         im(j) = total%im
       end do
    end subroutine narrow_band_lu_solve_complex
 
@@ -967,14 +989,7 @@ contains
             x(p) = swap
          end if
          p = c_pivots(k)
-         if (p /= k) then
-            swap = re(k)
-            re(k) = re(p)
-            re(p) = swap
-            swap = im(k)
-            im(k) = im(p)
-            im(p) = swap
-         end if
+         if (p /= k) call exchange_parts(re, im, k, p)
       end do
       !GCC$ unroll 1
       do k = 1, n - 1
@@ -1034,19 +1049,11 @@ contains
       real(dp), intent(inout) :: re(n), im(n)
       real(dp) :: r1, r2, r3, r4, i1, i2, i3, i4
       integer :: k, p
-      real(dp) :: swap
       ! (the last row has no other row left to interchange with: pivots(n) = n)
       !GCC$ unroll 1
       do k = 1, n - 1
          p = pivots(k)
-         if (p /= k) then
-            swap = re(k)
-            re(k) = re(p)
-            re(p) = swap
-            swap = im(k)
-            im(k) = im(p)
-            im(p) = swap
-         end if
+         if (p /= k) call exchange_parts(re, im, k, p)
       end do
       select case (n)
       case (1)
@@ -1580,5 +1587,22 @@ contains
          r = cmplx(ratio/denominator, -1.0_dp/denominator, dp)
       end if
    end function reciprocal
+
+   !> Exchange entries i and j of a complex vector held as its real and imaginary parts.
+   pure subroutine exchange_parts(re, im, i, j)
+      !> Real parts
+      real(dp), intent(inout) :: re(:)
+      !> Imaginary parts
+      real(dp), intent(inout) :: im(:)
+      !> The entries to exchange
+      integer, intent(in) :: i, j
+      real(dp) :: swap
+      swap = re(i)
+      re(i) = re(j)
+      re(j) = swap
+      swap = im(i)
+      im(i) = im(j)
+      im(j) = swap
+   end subroutine exchange_parts
 
 end module taylorode_linalg_lapack

@@ -6,15 +6,15 @@
 !> pivots and factors; the solves multiply by the reciprocals of the pivots instead
 !> of dividing), without the cost of a LAPACK call, which exceeds the arithmetic at
 !> these sizes. Band matrices with narrow bands likewise go through the written-out
-!> band LU (LAPACK's own operations, without a BLAS call per column; the solves
-!> multiply by the reciprocals of the pivots).
+!> band LU (LAPACK's own operations, without a BLAS call per column; U's diagonal
+!> holds the reciprocals of the pivots, which the solves multiply by).
 module taylorode_linalg_solver
    use taylorode_base_kinds, only: dp
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument, &
       status_singular_matrix, status_nonfinite
    use taylorode_base_memory, only: out_of_memory, real_bytes, integer_bytes
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
-      matrix_structure_type, new_matrix
+      matrix_structure_type, storage_dense, new_matrix
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, &
       small_lu_factor, small_lu_solve, small_lu_max_order, narrow_band_lu_factor, narrow_band_lu_solve, &
       narrow_band_max_width
@@ -30,7 +30,8 @@ module taylorode_linalg_solver
       class(matrix_type), allocatable :: matrix
       !> Row interchanges of the factorization
       integer, allocatable :: pivots(:)
-      !> Reciprocals of the pivots (matrices factored by the written-out LU)
+      !> Reciprocals of the pivots (small dense matrices, factored by the written-out LU;
+      !> the written-out band LU keeps them on U's diagonal)
       real(dp), allocatable :: inverse_diagonal(:)
       !> Superdiagonals of the band factor U that hold entries (written-out band LU)
       integer :: upper_width = 0
@@ -61,7 +62,9 @@ contains
       integer :: memory
       call new_matrix(solver%matrix, n, structure, stat, factored=.true.)
       if (stat%code /= status_ok) return
-      allocate (solver%pivots(n), solver%inverse_diagonal(n), stat=memory)
+      allocate (solver%pivots(n), stat=memory)
+      if (memory == 0 .and. structure%storage == storage_dense .and. n <= small_lu_max_order) &
+         allocate (solver%inverse_diagonal(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%matrix)
          call out_of_memory(stat, "the pivots of an LU factorization", [2, n], max(real_bytes, integer_bytes))
@@ -90,8 +93,8 @@ contains
             ! no room for the fill-in (a matrix not made to be factored)
             info = -1
          else if (a%kl <= narrow_band_max_width) then
-            call narrow_band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info, self%inverse_diagonal, &
-               self%upper_width)
+            call narrow_band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info, reciprocal_diagonal=.true., &
+               upper_width=self%upper_width)
          else
             call band_lu_factor(a%ab, a%kl, a%ku, self%pivots, info)
          end if
@@ -99,7 +102,7 @@ contains
          info = -1
       end select
       self%factored = info == 0
-      if (info >= 0 .and. .not. finite_pivots(self)) then
+      if (info >= 0 .and. .not. finite_pivots(self, info == 0)) then
          self%factored = .false.
          call set_code(stat, status_nonfinite)
       else if (info > 0) then
@@ -111,18 +114,24 @@ contains
 
    !> Whether the diagonal of the factor U is finite: the Jacobians are checked when
    !> they are evaluated, so that NaN or Inf there comes from an overflow in the
-   !> elimination (a pivot of -Inf would make every increment 0).
-   logical function finite_pivots(self)
+   !> elimination (a pivot of -Inf would make every increment 0). The written-out band
+   !> LU holds 1/U(j, j) there: 0 is an infinite pivot when no pivot was zero.
+   logical function finite_pivots(self, nonsingular)
       class(linear_solver_type), intent(in) :: self
+      !> Whether the factorization found no zero pivot
+      logical, intent(in) :: nonsingular
       integer :: k
+      logical :: infinite_as_zero
       finite_pivots = .false.
       select type (a => self%matrix)
       type is (dense_matrix_type)
          finite_pivots = finite_diagonal(a%a)
          return
       type is (band_matrix_type)
+         infinite_as_zero = a%kl <= narrow_band_max_width .and. nonsingular
          do k = 1, a%n
             if (.not. ieee_is_finite(a%ab(a%diagonal, k))) return
+            if (infinite_as_zero .and. a%ab(a%diagonal, k) == 0.0_dp) return
          end do
       end select
       finite_pivots = .true.
@@ -162,8 +171,8 @@ contains
             end if
          type is (band_matrix_type)
             if (a%kl <= narrow_band_max_width) then
-               call narrow_band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, self%inverse_diagonal, &
-                  self%upper_width)
+               call narrow_band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, reciprocal_diagonal=.true., &
+                  upper_width=self%upper_width)
                info = 0
             else
                call band_lu_solve(a%ab, a%kl, a%ku, self%pivots, x, info)
