@@ -442,7 +442,8 @@ contains
             lm = min(kl, n - j)
             l = ipiv(j)
             if (l /= j) then
-               call exchange_parts(re, im, j, l)
+               call exchange(re(j), re(l))
+               call exchange(im(j), im(l))
                carry = cmplx(re(j), im(j), dp)
             end if
             factor = carry
@@ -989,7 +990,10 @@ contains
             x(p) = swap
          end if
          p = c_pivots(k)
-         if (p /= k) call exchange_parts(re, im, k, p)
+         if (p /= k) then
+            call exchange(re(k), re(p))
+            call exchange(im(k), im(p))
+         end if
       end do
       !GCC$ unroll 1
       do k = 1, n - 1
@@ -1053,7 +1057,10 @@ contains
       !GCC$ unroll 1
       do k = 1, n - 1
          p = pivots(k)
-         if (p /= k) call exchange_parts(re, im, k, p)
+         if (p /= k) then
+            call exchange(re(k), re(p))
+            call exchange(im(k), im(p))
+         end if
       end do
       select case (n)
       case (1)
@@ -1588,21 +1595,15 @@ contains
       end if
    end function reciprocal
 
-   !> Exchange entries i and j of a complex vector held as its real and imaginary parts.
-   pure subroutine exchange_parts(re, im, i, j)
-      !> Real parts
-      real(dp), intent(inout) :: re(:)
-      !> Imaginary parts
-      real(dp), intent(inout) :: im(:)
-      !> The entries to exchange
-      integer, intent(in) :: i, j
+   !> Exchange two values (a row interchange of a right-hand side held as real and
+   !> imaginary parts: one call for each part).
+   elemental subroutine exchange(a, b)
+      !> The values exchanged
+      real(dp), intent(inout) :: a, b
       real(dp) :: swap
-      swap = re(i)
-      re(i) = re(j)
-      re(j) = swap
-      swap = im(i)
-      im(i) = im(j)
-      im(j) = swap
-   end subroutine exchange_parts
+      swap = a
+      a = b
+      b = swap
+   end subroutine exchange
 
 end module taylorode_linalg_lapack
