@@ -249,53 +249,62 @@ contains
 
    !> A = alpha B for band matrices sets every entry of A's band in the matrix: alpha B
    !> inside B's (narrower or equal) band, zero outside it, whatever A held before (7
-   !> everywhere here); the rows kept for the fill-in are left to the factorization. Checked against set_zero and add_scaled entry by entry.
+   !> everywhere here); the rows kept for the fill-in are left to the factorization. Checked against set_zero and add_scaled entry by entry,
+   !> and A = alpha B + s I in its one pass against add_identity after them, bit for bit.
    subroutine test_band_set_scaled(error)
       type(error_type), allocatable, intent(out) :: error
       class(matrix_type), allocatable :: a, b, expected
       type(status_type) :: stat
-      integer :: n, i, j, kl_b, ku_b
+      integer :: n, i, j, kl_b, ku_b, with_shift
       integer(i8) :: state
       character(len=:), allocatable :: label
 
       state = 7_i8
-      do n = 1, 9, 4
-         do kl_b = 0, 3
-            do ku_b = 0, 2
-               label = "n = "//format_integer(n)//", B's bands "//format_integer(kl_b)//", "//format_integer(ku_b)
-               call new_matrix(a, n, matrix_structure_type(storage_band, 3, 2), stat, factored=.true.)
-               call new_matrix(expected, n, matrix_structure_type(storage_band, 3, 2), stat, factored=.true.)
-               call new_matrix(b, n, matrix_structure_type(storage_band, kl_b, ku_b), stat)
-               select type (a)
-               type is (band_matrix_type)
-                  a%ab = 7.0_dp
-               end select
-               select type (b)
-               type is (band_matrix_type)
-                  do j = 1, n
-                     do i = max(1, j - ku_b), min(n, j + kl_b)
-                        b%ab(b%diagonal + i - j, j) = next_value(state)
-                     end do
-                  end do
-               end select
-               call a%set_scaled(-2.5_dp, b, stat)
-               call expected%set_zero()
-               call expected%add_scaled(-2.5_dp, b, stat)
-               call check(error, stat%code, status_ok, label//": status")
-               if (allocated(error)) return
-               select type (a)
-               type is (band_matrix_type)
-                  select type (expected)
+      do with_shift = 0, 1
+         do n = 1, 9, 4
+            do kl_b = 0, 3
+               do ku_b = 0, 2
+                  label = "n = "//format_integer(n)//", B's bands "//format_integer(kl_b)//", "//format_integer(ku_b)// &
+                     trim(merge(", shifted", "         ", with_shift == 1))
+                  call new_matrix(a, n, matrix_structure_type(storage_band, 3, 2), stat, factored=.true.)
+                  call new_matrix(expected, n, matrix_structure_type(storage_band, 3, 2), stat, factored=.true.)
+                  call new_matrix(b, n, matrix_structure_type(storage_band, kl_b, ku_b), stat)
+                  select type (a)
+                  type is (band_matrix_type)
+                     a%ab = 7.0_dp
+                  end select
+                  select type (b)
                   type is (band_matrix_type)
                      do j = 1, n
-                        do i = max(1, j - a%ku), min(n, j + a%kl)
-                           call check(error, a%ab(a%diagonal + i - j, j) == expected%ab(a%diagonal + i - j, j), &
-                              label//": entry ("//format_integer(i)//", "//format_integer(j)//")")
-                           if (allocated(error)) return
+                        do i = max(1, j - ku_b), min(n, j + kl_b)
+                           b%ab(b%diagonal + i - j, j) = next_value(state)
                         end do
                      end do
                   end select
-               end select
+                  call expected%set_zero()
+                  call expected%add_scaled(-2.5_dp, b, stat)
+                  if (with_shift == 1) then
+                     call a%set_scaled(-2.5_dp, b, stat, shift=1.75_dp)
+                     call expected%add_identity(1.75_dp)
+                  else
+                     call a%set_scaled(-2.5_dp, b, stat)
+                  end if
+                  call check(error, stat%code, status_ok, label//": status")
+                  if (allocated(error)) return
+                  select type (a)
+                  type is (band_matrix_type)
+                     select type (expected)
+                     type is (band_matrix_type)
+                        do j = 1, n
+                           do i = max(1, j - a%ku), min(n, j + a%kl)
+                              call check(error, a%ab(a%diagonal + i - j, j) == expected%ab(a%diagonal + i - j, j), &
+                                 label//": entry ("//format_integer(i)//", "//format_integer(j)//")")
+                              if (allocated(error)) return
+                           end do
+                        end do
+                     end select
+                  end select
+               end do
             end do
          end do
       end do

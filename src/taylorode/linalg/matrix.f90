@@ -53,7 +53,7 @@ module taylorode_linalg_matrix
       procedure(identity_interface), deferred :: add_identity
       !> Block (r, c) of A, of order 2 n_B, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
       procedure(block_interface), deferred :: add_block
-      !> A = alpha B
+      !> A = alpha B (+ s I)
       procedure :: set_scaled
       !> Whether every entry of the matrix is finite (neither NaN nor Inf)
       procedure, non_overridable :: all_finite
@@ -241,8 +241,8 @@ contains
       end select
    end subroutine new_matrix
 
-   !> A = alpha B.
-   subroutine set_scaled(self, alpha, b, stat)
+   !> A = alpha B, or alpha B + s I with the shift s.
+   subroutine set_scaled(self, alpha, b, stat, shift)
       !> The matrix A
       class(matrix_type), intent(inout) :: self
       !> Factor
@@ -251,8 +251,11 @@ contains
       class(matrix_type), intent(in) :: b
       !> status_invalid_argument on a storage mismatch
       type(status_type), intent(inout) :: stat
+      !> The shift s added to the diagonal (default none)
+      real(dp), intent(in), optional :: shift
       call self%set_zero()
       call self%add_scaled(alpha, b, stat)
+      if (present(shift)) call self%add_identity(shift)
    end subroutine set_scaled
 
    !> Whether every entry of the matrix is finite: in band storage the entries of the
@@ -487,27 +490,38 @@ contains
    !> rows j - ku ... j + kl (at ab rows first ... last), alpha B inside B's bands, zero
    !> outside; the rows kept for the LU fill-in are left alone (the factorizations set
    !> them). Any other B: set_zero, then add_scaled.
-   subroutine band_set_scaled(self, alpha, b, stat)
+   !> A = alpha B (+ s I) from a band B within A's band in one pass (the shift added to
+   !> each column's diagonal while the column is at hand: one pass over a large matrix,
+   !> not two).
+   subroutine band_set_scaled(self, alpha, b, stat, shift)
       class(band_matrix_type), intent(inout) :: self
       real(dp), intent(in) :: alpha
       class(matrix_type), intent(in) :: b
       type(status_type), intent(inout) :: stat
+      real(dp), intent(in), optional :: shift
       select type (b)
       type is (band_matrix_type)
          if (b%n == self%n .and. b%kl <= self%kl .and. b%ku <= self%ku) then
-            call scaled_band_into_band(self%n, self%kl, self%ku, size(self%ab, 1), self%diagonal, self%ab, alpha, &
-               b%kl, b%ku, size(b%ab, 1), b%diagonal, b%ab)
+            if (present(shift)) then
+               call scaled_band_into_band(self%n, self%kl, self%ku, size(self%ab, 1), self%diagonal, self%ab, alpha, &
+                  b%kl, b%ku, size(b%ab, 1), b%diagonal, b%ab, .true., shift)
+            else
+               call scaled_band_into_band(self%n, self%kl, self%ku, size(self%ab, 1), self%diagonal, self%ab, alpha, &
+                  b%kl, b%ku, size(b%ab, 1), b%diagonal, b%ab, .false., 0.0_dp)
+            end if
             return
          end if
       end select
-      call set_scaled(self, alpha, b, stat)
+      call set_scaled(self, alpha, b, stat, shift)
    end subroutine band_set_scaled
 
    !> a = alpha b over a's band (kl, ku; diagonal in row `diagonal` of a), b a band
    !> matrix within it (kl_b, ku_b; diagonal in row diagonal_b): zeros outside b's band,
-   !> a's other rows (kept for the LU fill-in) left alone. Explicit-shape arrays: the
-   !> few entries of a column cost as much as the loops' bounds otherwise.
-   pure subroutine scaled_band_into_band(n, kl, ku, lda, diagonal, a, alpha, kl_b, ku_b, ldb, diagonal_b, b)
+   !> a's other rows (kept for the LU fill-in) left alone; with `shifted`, s added to the
+   !> diagonal. Explicit-shape arrays: the few entries of a column cost as much as the
+   !> loops' bounds otherwise.
+   pure subroutine scaled_band_into_band(n, kl, ku, lda, diagonal, a, alpha, kl_b, ku_b, ldb, diagonal_b, b, &
+      shifted, s)
       !> Order
       integer, intent(in) :: n
       !> a's bandwidths, leading dimension and row of the diagonal
@@ -520,6 +534,10 @@ contains
       integer, intent(in) :: kl_b, ku_b, ldb, diagonal_b
       !> b's band storage
       real(dp), intent(in) :: b(ldb, n)
+      !> Whether s is added to the diagonal
+      logical, intent(in) :: shifted
+      !> The shift
+      real(dp), intent(in) :: s
       integer :: i, j, first, last, first_b, last_b, shift
       shift = diagonal_b - diagonal
       do j = 1, n
@@ -542,6 +560,7 @@ contains
          do i = last_b + 1, last
             a(i, j) = 0.0_dp
          end do
+         if (shifted) a(diagonal, j) = a(diagonal, j) + s
       end do
    end subroutine scaled_band_into_band
 

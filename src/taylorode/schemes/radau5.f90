@@ -649,11 +649,11 @@ contains
          ! an overflow in the elimination (see linear_solver_type%factor)
          if (.not. finite_diagonal(self%small_matrix)) call set_code(stat, status_nonfinite)
       else
-         call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
          if (self%with_mass) then
+            call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
             call self%real_solver%matrix%add_scaled(fac1, self%mass, stat)
          else
-            call self%real_solver%matrix%add_identity(fac1)
+            call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat, shift=fac1)
          end if
          if (stat%code == status_ok) call self%real_solver%factor(stat)
          if (stat%code /= status_ok) return
