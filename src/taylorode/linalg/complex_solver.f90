@@ -104,7 +104,8 @@ contains
       if (memory == 0 .and. .not. written_out) allocate (solver%work(n), stat=memory)
       if (memory /= 0) then
          deallocate (solver%a)
-         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", [2, n], complex_bytes)
+         call out_of_memory(stat, "the pivots and work space of a complex LU factorization", &
+            [merge(1, 2, written_out), n], complex_bytes)
       end if
    end subroutine new_complex_solver
 

@@ -486,13 +486,11 @@ contains
       end select
    end subroutine band_add_scaled
 
-   !> A = alpha B for a band B within A's bands in one pass over the band: column j's
-   !> rows j - ku ... j + kl (at ab rows first ... last), alpha B inside B's bands, zero
-   !> outside; the rows kept for the LU fill-in are left alone (the factorizations set
-   !> them). Any other B: set_zero, then add_scaled.
-   !> A = alpha B (+ s I) from a band B within A's band in one pass (the shift added to
-   !> each column's diagonal while the column is at hand: one pass over a large matrix,
-   !> not two).
+   !> A = alpha B (+ s I) for a band B within A's bands in one pass over the band: column
+   !> j's rows j - ku ... j + kl (at ab rows first ... last), alpha B inside B's bands,
+   !> zero outside, the shift added to the diagonal while the column is at hand (one pass
+   !> over a large matrix, not two); the rows kept for the LU fill-in are left alone (the
+   !> factorizations set them). Any other B: set_zero, then add_scaled (and add_identity).
    subroutine band_set_scaled(self, alpha, b, stat, shift)
       class(band_matrix_type), intent(inout) :: self
       real(dp), intent(in) :: alpha
