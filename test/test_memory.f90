@@ -308,8 +308,10 @@ contains
    !> large_request), a problem declared to depend on t costs ex-t-2 and i-t-2 one array
    !> more than the same problem declared autonomous (dF/dt), si-t-2 two (df/dt, dg/dt);
    !> i-t-2 extrapolating Newton's starting guess two more than without (the last
-   !> accepted step's ends), radau5 none (it extrapolates its own stages). Before, every
-   !> run allocated them all.
+   !> accepted step's ends), radau5 none (it extrapolates its own stages); radau5 from a
+   !> given h0 one fewer than when it estimates the first step (that estimate's work
+   !> space), i-t-2 extrapolating as many (the array is its guess). Before, every run
+   !> allocated them all.
    subroutine test_work_arrays_where_used(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(3) = [character(len=8) :: "ex-t-2", "i-t-2", "si-t-2"]
@@ -336,13 +338,27 @@ contains
       without = large_requests("radau5", autonomous=.true., extrapolate=.false.)
       call check(error, with == without, "radau5: "//format_integer(int(with))//" large requests with the option "// &
          "extrapolate_newton_start, "//format_integer(int(without))//" without")
+      if (allocated(error)) return
+      ! the first step size's work space only when h is estimated (h0 = 0); an extrapolating
+      ! i-t-2 holds that array as Newton's guess anyway
+      with = large_requests("radau5", autonomous=.true., extrapolate=.true.)
+      without = large_requests("radau5", autonomous=.true., extrapolate=.true., h0=1.0e-4_dp)
+      call check(error, with - without == 1, "radau5: "//format_integer(int(with))//" large requests estimating "// &
+         "the first step, "//format_integer(int(without))//" from a given h0")
+      if (allocated(error)) return
+      with = large_requests("i-t-2", autonomous=.true., extrapolate=.true.)
+      without = large_requests("i-t-2", autonomous=.true., extrapolate=.true., h0=1.0e-4_dp)
+      call check(error, with == without, "i-t-2 extrapolating: "//format_integer(int(with))//" large requests "// &
+         "estimating the first step, "//format_integer(int(without))//" from a given h0")
    end subroutine test_work_arrays_where_used
 
    !> Requests of at least large_request bytes made by one integration of the band chain
    !> with a new scheme object
-   function large_requests(scheme_name, autonomous, extrapolate) result(requests)
+   function large_requests(scheme_name, autonomous, extrapolate, h0) result(requests)
       character(len=*), intent(in) :: scheme_name
       logical, intent(in) :: autonomous, extrapolate
+      !> The first step (default 0: estimated)
+      real(dp), intent(in), optional :: h0
       integer(c_long_long) :: requests
       type(chain_type) :: problem
       class(scheme_type), allocatable :: scheme
@@ -353,6 +369,7 @@ contains
       problem%band = .true.
       problem%autonomous = autonomous
       options%extrapolate_newton_start = extrapolate
+      if (present(h0)) options%h0 = h0
       call new_scheme(scheme_name, scheme, stat)
       u = 1.0_dp
       call fail_allocations(large_request, huge(1_c_long_long))

@@ -9,7 +9,7 @@ module taylorode_integrate_integrator
    use taylorode_base_status, only: status_type, set_status, describe, status_ok, status_invalid_argument, &
       status_size_mismatch, status_nonfinite, status_step_underflow, status_max_steps, status_evaluation_failed, &
       status_output_error, status_out_of_memory, status_description, status_singular_matrix
-   use taylorode_base_memory, only: out_of_memory, real_bytes
+   use taylorode_base_memory, only: out_of_memory, real_bytes, sized
    use taylorode_base_counters, only: counters_type, operator(+), operator(-)
    use taylorode_base_strings, only: fixed_length_real
    use taylorode_problem_ode, only: ode_problem
@@ -270,6 +270,10 @@ contains
          ! F is M U', not U': no estimate from it; RADAU5's first step (1e-6)
          self%h = first_step_fallback*max(1.0_dp, abs(t0))
       else if (self%h == 0.0_dp) then
+         ! the Newton guess's array as the estimate's work space (allocated here only when
+         ! h is estimated: a run from a given h0 has no use for it unless Newton extrapolates)
+         call sized(self%stepper%guess, self%n, "the first step size's work space", stat)
+         if (stat%code /= status_ok) return
          work_before = scheme%counters
          call evaluate_start(self, problem, scheme, t0, u0, self%stepper%delta, stat)
          call add_work(self%total, scheme%counters, work_before)

@@ -119,7 +119,7 @@ module taylorode_integrate_stepper
       !> from, unless the caller changed it), for the Newton starting guess (when
       !> extrapolating)
       real(dp), allocatable :: u_step_start(:), u_step_end(:)
-      !> Newton starting guess
+      !> Newton starting guess (when extrapolating), or the first step size's work space
       real(dp), allocatable :: guess(:)
       !> Whether Newton starts from an extrapolation, and whether one is possible now
       logical :: extrapolate = .false., extrapolation_ready = .false.
@@ -173,9 +173,9 @@ contains
       call sized(self%delta, n, what, stat)
       call sized(self%weights, n, what, stat)
       call sized(self%newton%tolerance, n, what, stat)
-      ! (the guess is also the first step size's work space)
-      call sized(self%guess, n, what, stat)
       self%extrapolate = options%extrapolate_newton_start .and. scheme%implicit .and. scheme%takes_newton_guess
+      ! (the integrator sizes the guess too when it estimates the first step: its work space)
+      call sized(self%guess, merge(n, 0, self%extrapolate), what, stat)
       self%extrapolation_ready = .false.
       call sized(self%u_step_start, merge(n, 0, self%extrapolate), what, stat)
       call sized(self%u_step_end, merge(n, 0, self%extrapolate), what, stat)
