@@ -28,13 +28,18 @@ module test_integrator
    !> Allowed relative deviation of the step counts
    real(dp), parameter :: step_count_tolerance = 0.005_dp
 
+   !> A problem all in g: f = 0 and df/du = 0
+   type, abstract, extends(ode_problem) :: stiff_only_problem
+   contains
+      procedure :: f => zero_f
+      procedure :: jac_f => zero_jac
+   end type stiff_only_problem
+
    !> g = u / t: at the end of a step from t = 0 the i-t-1 Newton matrix 1 - h/h is
    !> exactly singular for every power-of-two step size
-   type, extends(ode_problem) :: singular_problem
+   type, extends(stiff_only_problem) :: singular_problem
    contains
-      procedure :: f => singular_f
       procedure :: g => singular_g
-      procedure :: jac_f => singular_jac_f
       procedure :: jac_g => singular_jac_g
    end type singular_problem
 
@@ -49,20 +54,16 @@ module test_integrator
    !> u0 with c ~ 1e4 h, makes Newton from u0 crawl (a simplified Newton iteration with
    !> the Jacobian at u0 contracts like 1 - 1 / (3 c u0^2)): it converges only once h is
    !> below about 1e-4
-   type, extends(ode_problem) :: cubic_decay_problem
+   type, extends(stiff_only_problem) :: cubic_decay_problem
    contains
-      procedure :: f => zero_f
       procedure :: g => cubic_g
-      procedure :: jac_f => zero_jac
       procedure :: jac_g => cubic_jac_g
    end type cubic_decay_problem
 
    !> u' = u^2 (all in g), u(0) = 1: u = 1/(1 - t) blows up at t = 1
-   type, extends(ode_problem) :: blow_up_type
+   type, extends(stiff_only_problem) :: blow_up_type
    contains
-      procedure :: f => blow_up_f
       procedure :: g => blow_up_g
-      procedure :: jac_f => blow_up_jac_f
       procedure :: jac_g => blow_up_jac_g
    end type blow_up_type
 
@@ -1010,20 +1011,6 @@ contains
       end if
    end subroutine poisoned_g
 
-   subroutine singular_f(self, t, u, dudt)
-      class(singular_problem), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: dudt(:)
-      dudt = 0.0_dp
-   end subroutine singular_f
-
-   subroutine singular_jac_f(self, t, u, jac)
-      class(singular_problem), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: jac(:, :)
-      jac = 0.0_dp
-   end subroutine singular_jac_f
-
    subroutine singular_g(self, t, u, dudt)
       class(singular_problem), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
@@ -1039,25 +1026,18 @@ contains
    end subroutine singular_jac_g
 
    subroutine zero_f(self, t, u, dudt)
-      class(cubic_decay_problem), intent(inout) :: self
+      class(stiff_only_problem), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: dudt(:)
       dudt = 0.0_dp
    end subroutine zero_f
 
    subroutine zero_jac(self, t, u, jac)
-      class(cubic_decay_problem), intent(inout) :: self
+      class(stiff_only_problem), intent(inout) :: self
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: jac(:, :)
       jac = 0.0_dp
    end subroutine zero_jac
-
-   subroutine blow_up_f(self, t, u, dudt)
-      class(blow_up_type), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: dudt(:)
-      dudt = 0.0_dp
-   end subroutine blow_up_f
 
    subroutine blow_up_g(self, t, u, dudt)
       class(blow_up_type), intent(inout) :: self
@@ -1065,13 +1045,6 @@ contains
       real(dp), intent(out) :: dudt(:)
       dudt = u**2
    end subroutine blow_up_g
-
-   subroutine blow_up_jac_f(self, t, u, jac)
-      class(blow_up_type), intent(inout) :: self
-      real(dp), intent(in) :: t, u(:)
-      real(dp), intent(out) :: jac(:, :)
-      jac = 0.0_dp
-   end subroutine blow_up_jac_f
 
    subroutine blow_up_jac_g(self, t, u, jac)
       class(blow_up_type), intent(inout) :: self
