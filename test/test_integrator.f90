@@ -67,6 +67,13 @@ module test_integrator
       procedure :: jac_g => blow_up_jac_g
    end type blow_up_type
 
+   !> u' = -u (all in g)
+   type, extends(stiff_only_problem) :: linear_decay_problem
+   contains
+      procedure :: g => linear_decay_g
+      procedure :: jac_g => linear_decay_jac_g
+   end type linear_decay_problem
+
    !> A stiff part that returns NaN at every t > 0
    type, extends(ode_problem) :: poisoned_problem
    contains
@@ -96,6 +103,7 @@ contains
          new_unittest("singular-newton-repeatedly", test_singular_repeatedly), &
          new_unittest("newton-failures-retried-until-h-works", test_failures_retried), &
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
+         new_unittest("solves-without-a-digit-fail", test_solves_without_a_digit), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("measured-times", test_measured_times), &
@@ -807,6 +815,47 @@ contains
       call check(error, u(1), 1.0_dp, "initial state returned")
    end subroutine test_singular_repeatedly
 
+   !> u' = -u over [0, 3e34] (rtol = atol = 1e-6), where the steps grow until h |lambda|
+   !> passes 1/epsilon: the stacked Newton matrices of i-t-2 and si-t-2 then solve for a
+   !> correction that cancels to exactly 0 (1 + h rounds to h) and their iterations took
+   !> the starting guess for the solution; i-t-2 returned status ok with u = 7.9e9. Now a
+   !> zero correction of a nonzero residual is a singular matrix unless it underflowed:
+   !> those schemes give up with status_singular_matrix. A correction that underflowed is
+   !> no such failure: i-t-1 from u0 = 1e-300 in one step of 1e30 reaches u = 0 and
+   !> then corrects by u0 / (1 + h) = 1e-330, zero in double precision (taken for a
+   !> singular matrix, the run gave up after 5 attempts).
+   subroutine test_solves_without_a_digit(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: stacked(3) = [character(len=12) :: "i-t-2", "si-t-2", "si-t-2-paper"]
+      real(dp), parameter :: t_end = 3.0e34_dp, tol = 1.0e-6_dp
+      type(linear_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+      integer :: k
+
+      options = integrator_options_type(rtol=tol, atol=tol)
+      do k = 1, size(stacked)
+         call new_scheme(trim(stacked(k)), scheme, stat)
+         u = [1.0_dp]
+         call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, stat)
+         call check(error, stat%code /= status_ok .or. abs(u(1)) <= 100.0_dp*tol, trim(stacked(k))// &
+            ": status ok with u(3e34) = "//format_real(u(1)))
+         if (allocated(error)) return
+         call check(error, stat%code, status_singular_matrix, trim(stacked(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+      end do
+      call new_scheme("i-t-1", scheme, stat)
+      options%h0 = 1.0e30_dp
+      u = [1.0e-300_dp]
+      call integrate(problem, scheme, 0.0_dp, options%h0, u, options, stats, stat)
+      call check(error, stat%code, status_ok, "i-t-1 from 1e-300: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, abs(u(1)) <= 1.0e-300_dp, "i-t-1: u(1e30) = "//format_real(u(1)))
+   end subroutine test_solves_without_a_digit
+
    !> A first step far too long for Newton (u' = -1e4 u^3 from u = 1 with h0 = 1e6): the
    !> failed attempts are retried with ever smaller steps until Newton converges, as
    !> RADAU5 does, however many it takes (radau5 fails 18 attempts, i-t-1 16, more than
@@ -1052,6 +1101,20 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac = 2.0_dp*u(1)
    end subroutine blow_up_jac_g
+
+   subroutine linear_decay_g(self, t, u, dudt)
+      class(linear_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -u
+   end subroutine linear_decay_g
+
+   subroutine linear_decay_jac_g(self, t, u, jac)
+      class(linear_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = -1.0_dp
+   end subroutine linear_decay_jac_g
 
    subroutine cubic_g(self, t, u, dudt)
       class(cubic_decay_problem), intent(inout) :: self

@@ -14,7 +14,7 @@
 module taylorode_newton_solver
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_code, status_ok, status_newton_diverged, &
-      status_newton_not_converged, status_nonfinite, status_evaluation_failed
+      status_newton_not_converged, status_nonfinite, status_evaluation_failed, status_singular_matrix
    use taylorode_base_counters, only: counters_type
    use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, matrix_structure_type, stacked_structure
@@ -281,7 +281,8 @@ contains
    !> settings%estimate_error, when every |increment_i| <= tolerance_i), and what the
    !> increment becomes in the next step (`propagate`) is within the tolerances too.
    !> A failure is reported by its code alone (no message is built, nothing is
-   !> allocated): status_singular_matrix, status_newton_diverged,
+   !> allocated): status_singular_matrix (a zero pivot, or a zero correction of a nonzero
+   !> residual that did not underflow), status_newton_diverged,
    !> status_newton_not_converged, status_nonfinite (the residual, that is f or g, gave
    !> NaN or Inf, or a Jacobian did) or
    !> status_evaluation_failed (the problem rejected an evaluation).
@@ -304,7 +305,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, known, fresh, first, below_rounding, estimated, finite
+      logical :: rebuild, known, fresh, first, below_rounding, estimated, finite, residual_nonzero
       real(dp) :: size_now, size_before, contraction, error_factor
 
       n = size(settings%tolerance)
@@ -346,7 +347,7 @@ contains
          end if
          ! the residual is finite (else f or g gave NaN or Inf); its negative is the
          ! right-hand side of the Newton correction
-         call negate_finite(m, self%increment, finite)
+         call negate_finite(m, self%increment, finite, residual_nonzero)
          if (.not. finite) then
             call set_code(stat, status_nonfinite)
             return
@@ -373,6 +374,18 @@ contains
             call set_code(stat, status_newton_diverged)
             self%kept(slot)%linear%factored = .false.
             return
+         end if
+         ! a zero correction of a nonzero residual is no sign of convergence unless it
+         ! underflowed: else the solve kept no digit of the residual, the matrix being
+         ! singular in working precision (the stacked matrices' Schur complement once
+         ! h |lambda| nears 1/epsilon, where 1 + h |lambda| rounds to h |lambda|, and i-t-2
+         ! or si-t-2 would accept their starting guess, however wrong)
+         if (size_now == 0.0_dp .and. residual_nonzero) then
+            if (.not. correction_underflows()) then
+               self%kept(slot)%linear%factored = .false.
+               call set_code(stat, status_singular_matrix)
+               return
+            end if
          end if
          ! after an exactly zero increment the contraction is unknown: it then neither
          ! triggers a rebuild nor a divergence verdict, and the factors are not kept
@@ -491,6 +504,27 @@ contains
          propagation_within = factor*weighted_size(self%propagated) <= 1.0_dp .and. stat%code == status_ok
       end function propagation_within
 
+      !> Whether the zero correction of the last iteration underflowed: the residual
+      !> at u again, scaled by a power of 2 to a largest entry near 1 (exactly), has a
+      !> correction that is not zero. A solve that cancels the residual away gives
+      !> zero at any scale.
+      logical function correction_underflows()
+         real(dp) :: largest
+         logical :: nonzero
+         correction_underflows = .false.
+         call system%residual(problem, u, self%increment, counters)
+         if (problem%evaluation_rejected()) return
+         call negate_finite(m, self%increment, finite, nonzero)
+         if (.not. (finite .and. nonzero)) return
+         largest = maxval(abs(self%increment(1:m)))
+         self%increment(1:m) = scale(self%increment(1:m), -exponent(largest))
+         call self%solve_linear(slot, self%increment, stat)
+         counters%linear_solves = counters%linear_solves + 1
+         if (stat%code /= status_ok) return
+         correction_underflows = any(self%increment(1:m) /= 0.0_dp)
+         self%increment(1:m) = 0.0_dp
+      end function correction_underflows
+
       !> max_i |v_i| / tolerance_i
       real(dp) function weighted_size(v)
          real(dp), intent(in) :: v(:)
@@ -514,18 +548,21 @@ contains
 
    end subroutine solve
 
-   !> v = -v, stopping at the first entry that is not finite (finite false); explicit-shape
-   !> so that the loop does not reload the solver's descriptors at every entry (on a few
-   !> unknowns that cost more than the arithmetic).
-   pure subroutine negate_finite(m, v, finite)
+   !> v = -v, stopping at the first entry that is not finite (finite false), and whether
+   !> some entry is not zero; explicit-shape so that the loop does not reload the
+   !> solver's descriptors at every entry (on a few unknowns that cost more than the
+   !> arithmetic).
+   pure subroutine negate_finite(m, v, finite, nonzero)
       integer, intent(in) :: m
       real(dp), intent(inout) :: v(m)
-      logical, intent(out) :: finite
+      logical, intent(out) :: finite, nonzero
       integer :: i
       finite = .false.
+      nonzero = .false.
       !GCC$ unroll 1
       do i = 1, m
          if (.not. ieee_is_finite(v(i))) return
+         nonzero = nonzero .or. v(i) /= 0.0_dp
          v(i) = -v(i)
       end do
       finite = .true.
