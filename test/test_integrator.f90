@@ -104,6 +104,7 @@ contains
          new_unittest("newton-failures-retried-until-h-works", test_failures_retried), &
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("solves-without-a-digit-fail", test_solves_without_a_digit), &
+         new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("measured-times", test_measured_times), &
@@ -855,6 +856,36 @@ contains
       if (allocated(error)) return
       call check(error, abs(u(1)) <= 1.0e-300_dp, "i-t-1: u(1e30) = "//format_real(u(1)))
    end subroutine test_solves_without_a_digit
+
+   !> u' = -u (not declared autonomous) from a first step of 1e-300: the second-order
+   !> schemes difference g in t over a step/128, whose quadratic's weights b/(a (b - a))
+   !> overflowed once a (b - a) underflowed (steps below 1e-154); Inf times the zero
+   !> difference made dF/dt NaN, and ex-t-2, i-t-2 and si-t-2 ended with
+   !> status_nonfinite at t = 0. They must succeed, as the other schemes do.
+   subroutine test_tiny_first_step(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(3) = [character(len=6) :: "ex-t-2", "i-t-2", "si-t-2"]
+      real(dp), parameter :: tol = 1.0e-6_dp
+      type(linear_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+      integer :: k
+
+      options = integrator_options_type(rtol=tol, atol=tol, h0=1.0e-300_dp)
+      do k = 1, size(names)
+         call new_scheme(trim(names(k)), scheme, stat)
+         u = [1.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, trim(names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, abs(u(1) - exp(-1.0_dp)) <= 100.0_dp*tol, trim(names(k))//": u(1) = "// &
+            format_real(u(1)))
+         if (allocated(error)) return
+      end do
+   end subroutine test_tiny_first_step
 
    !> A first step far too long for Newton (u' = -1e4 u^3 from u = 1 with h0 = 1e6): the
    !> failed attempts are retried with ever smaller steps until Newton converges, as

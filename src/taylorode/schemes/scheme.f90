@@ -528,21 +528,22 @@ contains
       real(dp), intent(out) :: work(:)
       !> Work counters
       type(counters_type), intent(inout) :: counters
-      real(dp) :: d, a, b, ca, cb
+      real(dp) :: d, a, b, ratio_ba, ratio_ab
       integer :: i
       d = sign(max(abs(step)/128.0_dp, 64.0_dp*epsilon(1.0_dp)*abs(t)), step)
-      ! the offsets as the times represent them, and the weights of the quadratic
-      ! through the three values, differentiated at t
+      ! the offsets as the times represent them; the quadratic through the three values,
+      ! differentiated at t, weighs them b/(a (b - a)), -a/(b (b - a)) and minus their sum
       a = (t + d) - t
       b = (t + 2.0_dp*d) - t
-      ca = b/(a*(b - a))
-      cb = -a/(b*(b - a))
+      ratio_ba = b/a
+      ratio_ab = a/b
       call evaluate_part(t + a, derivative)
       call evaluate_part(t + b, work)
-      ! the weight of value is -(ca + cb): as differences, exactly 0 where part does
-      ! not depend on t
+      ! as differences, exactly 0 where part does not depend on t; divided by b - a
+      ! last, for a (b - a) underflows once a step is below 1e-154 (its weight was Inf,
+      ! and Inf times a zero difference NaN)
       do i = 1, size(u)
-         derivative(i) = ca*(derivative(i) - value(i)) + cb*(work(i) - value(i))
+         derivative(i) = (ratio_ba*(derivative(i) - value(i)) - ratio_ab*(work(i) - value(i)))/(b - a)
       end do
    contains
       !> part(time, u), counted
