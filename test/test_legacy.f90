@@ -12,7 +12,7 @@ module test_legacy
    use taylorode_schemes_radau5, only: radau5_type
    use taylorode_interfaces_legacy, only: legacy_solve, legacy_message, legacy_no_mass, legacy_interpolate
    use taylorode_interfaces_legacy_entry, only: fcn_interface, jac_interface, mas_interface, solout_interface
-   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
    implicit none
    private
 
@@ -85,6 +85,7 @@ contains
    subroutine collect_legacy(testsuite)
       type(unittest_type), allocatable, intent(out) :: testsuite(:)
       testsuite = [ &
+         new_unittest("contr-outside-the-step-is-nan", test_contr_outside), &
          new_unittest("settings-checked-as-radau5", test_settings_checked), &
          new_unittest("settings-in-range-accepted", test_settings_accepted), &
          new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
@@ -103,6 +104,36 @@ contains
          new_unittest("external-procedures-as-module", test_external_procedures) &
          ]
    end subroutine collect_legacy
+
+   !> TAYLORODE_CONTR (legacy_interpolate) on a step packed by hand (N = 1, degree 1:
+   !> XOLD, H, N, degree, one node, two coefficients) gives the Newton form's value, and
+   !> NaN for a component outside 1..N or a CONT whose header does not fit LRC: I = 3
+   !> read past the coefficients and I = 1e8 ended in SIGSEGV.
+   subroutine test_contr_outside(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: cont(7), value, bad(7)
+      integer :: k
+      integer, parameter :: outside(3) = [0, 2, 100000000]
+      cont = [1.0_dp, 2.0_dp, 1.0_dp, 1.0_dp, 0.25_dp, 3.0_dp, 4.0_dp]
+      ! theta = (2 - 1)/2 = 0.5: 3 + (0.5 - 0.25) 4
+      value = legacy_interpolate(1, 2.0_dp, cont, 7)
+      call check(error, value, 4.0_dp, "inside the step")
+      if (allocated(error)) return
+      do k = 1, size(outside)
+         value = legacy_interpolate(outside(k), 2.0_dp, cont, 7)
+         call check(error, ieee_is_nan(value), "I = "//format_integer(outside(k))//": "//format_real(value))
+         if (allocated(error)) return
+      end do
+      bad = cont
+      bad(3) = 1.0e300_dp
+      call check(error, ieee_is_nan(legacy_interpolate(1, 2.0_dp, bad, 7)), "N = 1e300 in CONT")
+      if (allocated(error)) return
+      bad = cont
+      bad(4) = 5.0_dp
+      call check(error, ieee_is_nan(legacy_interpolate(1, 2.0_dp, bad, 7)), "degree 5 in CONT of LRC 7")
+      if (allocated(error)) return
+      call check(error, ieee_is_nan(legacy_interpolate(1, 2.0_dp, cont, 4)), "LRC = 4")
+   end subroutine test_contr_outside
 
    !> Every setting RADAU5 checks, out of its range, is IDID = -1 with a reason in
    !> IWORK(12) and a message, and the state untouched: IWORK(2) < 0 (it ran with the

@@ -49,7 +49,7 @@ module taylorode_interfaces_legacy
    use taylorode_integrate_step, only: accepted_step_type, hermite_degree
    use taylorode_integrate_observer, only: step_observer_type
    use taylorode_interfaces_legacy_entry, only: fcn_interface, jac_interface, mas_interface, solout_interface
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan, ieee_value, ieee_quiet_nan
    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_funptr, c_f_procpointer, c_associated
    implicit none
    private
@@ -775,11 +775,18 @@ contains
       real(dp), intent(in) :: cont(lrc)
       real(dp) :: theta
       integer :: n, degree, first, k
+      ! NaN for a component outside 1..N, or a CONT that is not one SOLOUT was given
+      value = ieee_value(value, ieee_quiet_nan)
+      if (lrc < 5) return
+      if (.not. (cont(3) >= 1.0_dp .and. cont(3) <= real(lrc, dp) .and. cont(4) >= 0.0_dp .and. &
+         cont(4) <= real(lrc, dp))) return
       n = nint(cont(3))
       degree = nint(cont(4))
+      if (i < 1 .or. i > n) return
       ! after the room for max_degree nodes: lrc = 4 + max_degree + n (max_degree + 1);
       ! coefficient k of component i at first + k n + i - 1, node k at 4 + k
       first = 5 + (lrc - 4 - n)/(n + 1)
+      if (degree > first - 5 .or. first + degree*n + n - 1 > lrc) return
       theta = min(max((s - cont(1))/cont(2), 0.0_dp), 1.0_dp)
       value = cont(first + degree*n + i - 1)
       do k = degree, 1, -1
