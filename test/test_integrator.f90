@@ -105,6 +105,7 @@ contains
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("solves-without-a-digit-fail", test_solves_without_a_digit), &
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
+         new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("measured-times", test_measured_times), &
@@ -886,6 +887,35 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_tiny_first_step
+
+   !> radau5 with max_newton_iterations = huge(0) steps as with 1000, both in effect no
+   !> limit (Van der Pol, mu = 1e3, from (2, 0) to t = 3000, tol 1e-6): its step safety
+   !> (1 + 2 nit) / (newt + 2 nit) overflowed an integer, and took every step short.
+   subroutine test_huge_iteration_limit(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: limits(2) = [1000, huge(0)]
+      type(van_der_pol_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+      integer(i8) :: accepted(2)
+      integer :: k
+
+      problem = new_van_der_pol(1000.0_dp)
+      do k = 1, size(limits)
+         call new_scheme("radau5", scheme, stat)
+         options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp, max_newton_iterations=limits(k))
+         u = [2.0_dp, 0.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 3000.0_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, "limit "//format_integer(limits(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         accepted(k) = stats%accepted_steps
+      end do
+      call check(error, abs(accepted(2) - accepted(1)) <= accepted(1)/10, "accepted steps with the limit 1000: "// &
+         format_integer(int(accepted(1)))//", with huge(0): "//format_integer(int(accepted(2))))
+   end subroutine test_huge_iteration_limit
 
    !> A first step far too long for Newton (u' = -1e4 u^3 from u = 1 with h0 = 1e6): the
    !> failed attempts are retried with ever smaller steps until Newton converges, as

@@ -141,10 +141,10 @@ contains
    !> second-order structure (not supported), WORK(1) outside (1e-19, 1), WORK(2)
    !> outside (0.001, 1), WORK(3) >= 1, WORK(4) <= UROUND / RTOL, WORK(5) > 1, WORK(6) <
    !> 1, WORK(8) > 1, WORK(9) < 1, RTOL <= 10 UROUND or ATOL = 0 (radau5), a NaN H or
-   !> WORK entry, a negative IWORK(11).
+   !> WORK entry, a negative IWORK(11), IWORK(5:6) whose sum overflows an integer.
    subroutine test_settings_checked(error)
       type(error_type), allocatable, intent(out) :: error
-      integer, parameter :: cases = 23
+      integer, parameter :: cases = 24
       character(len=20) :: label
       real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
       integer :: iwork(liwork), ipar(2), idid, k
@@ -176,6 +176,8 @@ contains
          case (21); work(9) = -2.0_dp; label = "WORK(9) = -2"
          case (22); iwork(6:7) = [0, 1]; iwork(5) = 1; label = "IWORK(7) = 1"
          case (23); work(2) = ieee_value(1.0_dp, ieee_quiet_nan); label = "WORK(2) = NaN"
+         ! (their sum overflowed an integer: the sanitized build's report)
+         case (24); iwork(5:6) = [huge(0), 1]; label = "IWORK(5) = huge"
          end select
          call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
          call check(error, idid, -1, trim(label)//": IDID")

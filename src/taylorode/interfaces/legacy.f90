@@ -393,7 +393,7 @@ contains
          reason = reason_index_sum
          nind = iwork(5:7)
          if (nind(1) == 0) nind(1) = n
-         if (sum(nind) /= n) return
+         if (sum(int(nind, i8)) /= n) return
          reason = reason_index_high
          if (nind(2) /= 0 .or. nind(3) /= 0) return
          ! IWORK(8): 1 (or 0) the predictive controller, 2 the classical one

@@ -287,8 +287,10 @@ contains
    pure real(dp) function radau_step_safety(self, kappa) result(safety)
       class(radau5_type), intent(in) :: self
       real(dp), intent(in) :: kappa
-      safety = min(kappa, kappa*real(1 + 2*self%iteration_limit, dp)/ &
-         real(self%newton_count + 2*self%iteration_limit, dp))
+      real(dp) :: twice_limit
+      ! in real arithmetic: 2 nit overflows an integer for a limit near huge(0)
+      twice_limit = 2.0_dp*real(self%iteration_limit, dp)
+      safety = min(kappa, kappa*(1.0_dp + twice_limit)/(real(self%newton_count, dp) + twice_limit))
    end function radau_step_safety
 
    !> Keep h for factors in [QUOT1, QUOT2] ([1, 1.2] by default) after fast Newton
@@ -953,7 +955,7 @@ contains
                   dyth = self%faccon*dyno*self%theta**(limit - 1 - newt)
                   if (dyth >= 1.0_dp) then
                      self%retry_factor = failure_safety*min(failure_high, dyth)** &
-                        (-1.0_dp/real(3 + limit - newt, dp))
+                        (-1.0_dp/(3.0_dp + real(limit - newt, dp)))
                      call fail(status_newton_not_converged)
                      return
                   end if
