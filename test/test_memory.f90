@@ -7,9 +7,9 @@ module test_memory
    use test_support, only: scratch, run_type, run_command, stat_message, c_create, c_free, c_set_functions, &
       c_set_bandwidths, c_set_tolerance_vectors, c_integrate, message_of, legacy_no_jacobian
    use taylorode, only: dp, ode_problem, ode_problem_fd, scheme_type, new_scheme, scheme_names, integrate, &
-      integrate_fixed, status_type, status_ok, status_out_of_memory, status_nonfinite, integrator_options_type, &
-      integration_stats_type, step_history_type, event_functions_type, matrix_structure_type, band_structure, &
-      dense_structure
+      integrate_fixed, status_type, status_ok, status_out_of_memory, status_nonfinite, status_invalid_argument, &
+      integrator_options_type, integration_stats_type, step_history_type, event_functions_type, &
+      matrix_structure_type, band_structure, dense_structure
    use taylorode_base_strings, only: format_integer
    use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass
    use, intrinsic :: iso_c_binding, only: c_int, c_long_long, c_double, c_ptr, c_funptr, c_char, c_null_char, &
@@ -88,6 +88,7 @@ contains
       testsuite = [ &
          new_unittest("dense-newton-matrix-too-large", test_huge_dense), &
          new_unittest("c-huge-n-is-a-status", test_c_huge), &
+         new_unittest("c-band-rows-beyond-int-refused", test_c_band_rows), &
          new_unittest("every-failed-allocation-a-status", test_every_allocation), &
          new_unittest("band-problem-under-address-limit", test_address_limit), &
          new_unittest("work-arrays-only-where-used", test_work_arrays_where_used) &
@@ -124,6 +125,22 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_huge_dense
+
+   !> With n = INT_MAX, bandwidths whose rows lower + upper + 1 pass INT_MAX are refused
+   !> (TAYLORODE_INVALID_ARGUMENT); the sum overflowed, and 2^30 and 2^30 - 1 were taken
+   !> (TAYLORODE_OK) with a work array of no entries.
+   subroutine test_c_band_rows(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(c_ptr) :: ode
+      integer(c_int) :: status
+      ode = c_create("radau5"//c_null_char, huge(0_c_int), status)
+      call check(error, status == status_ok .and. c_associated(ode), "taylorode_create with n = INT_MAX")
+      if (allocated(error)) return
+      status = c_set_bandwidths(ode, 2_c_int**30, 2_c_int**30 - 1_c_int)
+      call check(error, status == status_invalid_argument .and. index(message_of(ode), "INT_MAX") > 0, &
+         "lower = 2^30, upper = 2^30 - 1: "//format_integer(int(status))//": "//message_of(ode))
+      call c_free(ode)
+   end subroutine test_c_band_rows
 
    !> taylorode_create takes any n (it allocates nothing that grows with n); a band too
    !> wide to allocate and an integration whose dense matrices cannot be allocated are

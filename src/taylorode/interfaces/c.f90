@@ -263,6 +263,13 @@ contains
          code = remember(session, stat)
          return
       end if
+      ! the band's rows, lower + upper + 1, are an int of the callbacks' indexing
+      if (lower > huge(lower) - 1 - upper) then
+         call set_status(stat, status_invalid_argument, "taylorode_set_bandwidths: lower + upper + 1 must not "// &
+            "exceed INT_MAX")
+         code = remember(session, stat)
+         return
+      end if
       ! a new work array first: the settings stay as they were when it cannot be allocated
       allocate (work(lower + upper + 1, session%n), stat=memory)
       if (memory /= 0) then

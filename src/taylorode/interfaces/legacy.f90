@@ -270,7 +270,10 @@ contains
             observer%rpar => problem%rpar
             observer%ipar => problem%ipar
             observer%max_degree = max(hermite_degree, scheme%dense_degree)
-            allocate (observer%cont(4 + observer%max_degree + n*(observer%max_degree + 1)), observer%y_copy(n), &
+            ! LRC, an integer, must count CONT: beyond huge(0) it is as if out of memory
+            memory = 1
+            if (4_i8 + observer%max_degree + int(n, i8)*(observer%max_degree + 1) <= huge(0)) &
+               allocate (observer%cont(4 + observer%max_degree + n*(observer%max_degree + 1)), observer%y_copy(n), &
                source=0.0_dp, stat=memory)
             if (memory /= 0) call out_of_memory(stat, "SOLOUT's copy of the step", [observer%max_degree + 2, n], &
                real_bytes)
