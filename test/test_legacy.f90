@@ -141,12 +141,13 @@ contains
    !> second-order structure (not supported), WORK(1) outside (1e-19, 1), WORK(2)
    !> outside (0.001, 1), WORK(3) >= 1, WORK(4) <= UROUND / RTOL, WORK(5) > 1, WORK(6) <
    !> 1, WORK(8) > 1, WORK(9) < 1, RTOL <= 10 UROUND or ATOL = 0 (radau5), a NaN H or
-   !> WORK entry, a negative IWORK(11), IWORK(5:6) whose sum overflows an integer.
+   !> WORK entry, a negative IWORK(11), IWORK(5:6) whose sum overflows an integer, WORK(1)
+   !> >= 0.1, an XEND - X that overflows; each with its own reason, X, Y and H as given.
    subroutine test_settings_checked(error)
       type(error_type), allocatable, intent(out) :: error
-      integer, parameter :: cases = 24
+      integer, parameter :: cases = 26
       character(len=20) :: label
-      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      real(dp) :: x, x_given, y(2), h, h_given, rtol(1), atol(1), work(lwork), rpar(1)
       integer :: iwork(liwork), ipar(2), idid, k
       character(len=:), allocatable :: message
 
@@ -178,11 +179,19 @@ contains
          case (23); work(2) = ieee_value(1.0_dp, ieee_quiet_nan); label = "WORK(2) = NaN"
          ! (their sum overflowed an integer: the sanitized build's report)
          case (24); iwork(5:6) = [huge(0), 1]; label = "IWORK(5) = huge"
+         ! (refused later, by the integrator, with "the integration was refused"; radau5's
+         ! WORK(1) = 0.5 by its tolerance test, si-t-2's so)
+         case (25); work(1) = 0.5_dp; label = "WORK(1) = 0.5"
+         case (26); x = -1.0e308_dp; label = "XEND - X overflows"
          end select
-         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message)
+         x_given = x
+         h_given = h
+         call solve_vdp("radau5", x, y, h, rtol, atol, 0, work, iwork, rpar, ipar, idid, message, &
+            x_end=merge(1.0e308_dp, vdp_end, k == 26))
          call check(error, idid, -1, trim(label)//": IDID")
          if (allocated(error)) return
-         call check(error, iwork(12) /= 0 .and. len(message) > 0 .and. x == 0.0_dp .and. y(1) == 2.0_dp, &
+         call check(error, iwork(12) /= 0 .and. len(message) > 0 .and. index(message, "the integration was refused") == 0 &
+            .and. x == x_given .and. y(1) == 2.0_dp .and. (h == h_given .or. (k == 19 .and. h /= h)), &
             trim(label)//": reason "//format_integer(iwork(12))//", message """//message//"""")
          if (allocated(error)) return
       end do
@@ -791,7 +800,8 @@ contains
 
    !> TAYLORODE(scheme, ...) on Van der Pol over [0, vdp_end] with the analytic
    !> Jacobian, dense, no mass matrix; SOLOUT = first_step when `output`, else none
-   subroutine solve_vdp(scheme_name, x, y, h, rtol, atol, itol, work, iwork, rpar, ipar, idid, message, output)
+   subroutine solve_vdp(scheme_name, x, y, h, rtol, atol, itol, work, iwork, rpar, ipar, idid, message, output, &
+      x_end)
       character(len=*), intent(in) :: scheme_name
       real(dp), intent(inout) :: x, y(2), h, rtol(:), atol(:), work(:), rpar(:)
       integer, intent(in) :: itol
@@ -799,15 +809,20 @@ contains
       integer, intent(out) :: idid
       character(len=:), allocatable, intent(out) :: message
       logical, intent(in), optional :: output
+      !> XEND (default vdp_end)
+      real(dp), intent(in), optional :: x_end
       logical :: solout
+      real(dp) :: xend
       solout = .false.
       if (present(output)) solout = output
+      xend = vdp_end
+      if (present(x_end)) xend = x_end
       if (solout) then
-         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
+         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, xend, h, rtol, atol, itol, vdp_jacobian, 0, &
             vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, first_step, 1, work, size(work), iwork, size(iwork), &
             rpar, ipar, idid, message)
       else
-         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, vdp_end, h, rtol, atol, itol, vdp_jacobian, 0, &
+         call legacy_solve(scheme_name, 2, vdp, vdp, .false., x, y, xend, h, rtol, atol, itol, vdp_jacobian, 0, &
             vdp_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, size(work), iwork, size(iwork), &
             rpar, ipar, idid, message)
       end if

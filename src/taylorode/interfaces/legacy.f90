@@ -204,7 +204,7 @@ contains
       type(integration_stats_type) :: stats
       type(status_type) :: stat
       integer :: reason, detail, memory
-      logical :: radau
+      logical :: radau, refused
 
       idid = -1
       if (present(message)) message = ""
@@ -264,7 +264,8 @@ contains
       end if
 
       call integrator%init(problem, scheme, x, y, options, stat)
-      if (stat%code == status_ok) then
+      refused = stat%code /= status_ok
+      if (.not. refused) then
          if (iout /= 0) then
             observer%solout => solout
             observer%rpar => problem%rpar
@@ -288,8 +289,11 @@ contains
             call integrator%advance_to(problem, scheme, xend, y, stat, stats)
          end if
       end if
-      x = integrator%total%t_reached
-      h = integrator%h
+      ! (a refusal of the integrator's leaves X and H as given, as RADAU5's refusals do)
+      if (.not. refused) then
+         x = integrator%total%t_reached
+         h = integrator%h
+      end if
       associate (total => integrator%total)
          iwork(14) = int(max(total%work%f_evaluations, total%work%g_evaluations))
          iwork(15) = int(max(total%work%jac_f_evaluations, total%work%jac_g_evaluations))
@@ -322,6 +326,8 @@ contains
          if (n < 1) return
          reason = reason_interval
          if (.not. (ieee_is_finite(x) .and. ieee_is_finite(xend) .and. xend > x)) return
+         ! XEND - X finite, tested by halves (the difference itself would overflow)
+         if (.not. (0.5_dp*xend - 0.5_dp*x < 0.5_dp*huge(1.0_dp))) return
          reason = reason_scheme
          if (radau) then
             call describe_radau5(radau_scheme)
@@ -344,7 +350,9 @@ contains
          reason = reason_uround
          uround = default_uround
          if (work(1) /= 0.0_dp) uround = work(1)
-         if (.not. (uround > 1.0e-19_dp .and. uround < 1.0_dp)) return
+         ! (RADAU5 takes up to 1; from 0.1 on its test of a too small step, 0.1 |H| <=
+         ! |X| UROUND, holds for any H within |X|: refused with this reason, not later)
+         if (.not. (uround > 1.0e-19_dp .and. uround < 0.1_dp)) return
          ! RADAU5 differences its Jacobian with the increment sqrt(UROUND max(1e-5, |y_j|))
          call set_difference_rounding(problem, uround)
          ! tolerances: radau5 takes RADAU5's rtol' = 0.1 rtol^(2/3), atol' = atol rtol'/rtol
@@ -674,11 +682,11 @@ contains
       case (reason_none); text = ""
       case (reason_storage); text = "LWORK and LIWORK must be at least 20"
       case (reason_size); text = "N must be at least 1"
-      case (reason_interval); text = "X and XEND must be finite and XEND > X (backward integration is not "// &
-         "supported: substitute s = -x)"
+      case (reason_interval); text = "X and XEND must be finite, XEND > X and XEND - X finite (backward "// &
+         "integration is not supported: substitute s = -x)"
       case (reason_tolerance); text = "RTOL("//trim(number)//") or ATOL("//trim(number)//") out of range: for "// &
          "radau5 (as RADAU5) ATOL > 0 and RTOL > 10 UROUND, for the other schemes both >= 0 and not both 0, finite"
-      case (reason_uround); text = "WORK(1), the rounding unit UROUND, must be in (1e-19, 1) (0: 1e-16)"
+      case (reason_uround); text = "WORK(1), the rounding unit UROUND, must be in (1e-19, 0.1) (0: 1e-16)"
       case (reason_budget_setting); text = "IWORK(2), the step budget, must be >= 0 (0: 100000)"
       case (reason_newton_setting); text = "IWORK(3), the Newton iterations per step, must be >= 0 (0: the "// &
          "scheme's own, 7 for radau5)"
