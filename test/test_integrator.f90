@@ -6,7 +6,7 @@ module test_integrator
    use test_support, only: rk4_reference, stat_message
    use taylorode_testset, only: van_der_pol_type, new_van_der_pol, van_der_pol_initial_state, &
       vdp_ic_prepared, vdp_ic_unprepared, linear_test_type, new_linear_test, brusselator_type, new_brusselator, &
-      orego_type, new_orego
+      orego_type, new_orego, hires_type, new_hires
    use taylorode, only: dp, i8, ode_problem, scheme_type, status_type, new_scheme, integrate, scheme_names, scheme_count, &
       integrator_options_type, integration_stats_type, paper_options, controller_pi, controller_pid, &
       norm_rms, advance_low, step_history_type, write_history_csv, estimate_embedded, estimate_doubling, estimate_defect, &
@@ -106,6 +106,7 @@ contains
          new_unittest("solves-without-a-digit-fail", test_solves_without_a_digit), &
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
+         new_unittest("newton-ends-at-components-at-zero", test_newton_at_zero_components), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("measured-times", test_measured_times), &
@@ -887,6 +888,33 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_tiny_first_step
+
+   !> HIRES from its start, where seven of its eight components are 0, with i-t-1 and the
+   !> embedded estimate (i-t-2's Newton for it) at rtol 1e-6, atol 1e-10: the increments
+   !> of the components at 0 (1e-41, 1e-28 of their tolerance) were not "within the
+   !> rounding of the iterate", and with the first component's below its rounding the
+   !> contraction stayed exactly 1; Newton rebuilt its matrix every other iteration
+   !> until its limit, at every step size: 123 failed attempts (h down to 1e-82) over the
+   !> whole run. An increment within a few ulps of its tolerance is resolved too.
+   subroutine test_newton_at_zero_components(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(hires_type) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp), allocatable :: u(:)
+
+      problem = new_hires()
+      call new_scheme("i-t-1", scheme, stat)
+      options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-10_dp, error_estimate=estimate_embedded)
+      u = problem%u0
+      call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, stats%rejected_newton <= 2_i8, format_integer(int(stats%rejected_newton))// &
+         " attempts failed in Newton")
+   end subroutine test_newton_at_zero_components
 
    !> radau5 with max_newton_iterations = huge(0) steps as with 1000, both in effect no
    !> limit (Van der Pol, mu = 1e3, from (2, 0) to t = 3000, tol 1e-6): its step safety

@@ -36,8 +36,8 @@ module taylorode_newton_solver
    !> Contraction factor, of two increments with a matrix built in the same solve, at
    !> which the iteration is declared divergent
    real(dp), parameter :: divergence_contraction = 2.0_dp
-   !> An increment of at most this many units of rounding of the iterate, in every
-   !> component, is all the iteration can resolve
+   !> An increment of at most this many units of rounding of the iterate, or of its
+   !> tolerance, in every component, is all the iteration can resolve
    real(dp), parameter :: rounding_ulps = 4.0_dp
    !> A factored Newton matrix serves a later step while h differs by at most this
    !> fraction from the h it was built with ...
@@ -570,8 +570,10 @@ contains
 
    !> u = u + increment, entry by entry, stopping at the first u_i that is not finite
    !> (finite false); size_now = max_i |increment_i| / tolerance_i, below_rounding whether
-   !> every |increment_i| is within rounding_ulps ulps of |u_i| (explicit-shape, as
-   !> negate_finite).
+   !> every |increment_i| is within rounding_ulps ulps of |u_i| or of tolerance_i (a
+   !> component at 0 has no ulps to speak of: HIRES's second from its start, whose
+   !> increments of 1e-41, 1e-28 of its tolerance, kept i-t-1's Newton for its error
+   !> estimate from ending at every step size) (explicit-shape, as negate_finite).
    pure subroutine add_increment(m, increment, inverse_tolerance, u, size_now, below_rounding, finite)
       integer, intent(in) :: m
       real(dp), intent(in) :: increment(m), inverse_tolerance(m)
@@ -581,15 +583,18 @@ contains
       real(dp), intent(out) :: size_now
       logical, intent(out) :: below_rounding, finite
       integer :: i
+      real(dp) :: weighted
       size_now = 0.0_dp
       below_rounding = .true.
       finite = .false.
       !GCC$ unroll 1
       do i = 1, m
          u(i) = u(i) + increment(i)
-         below_rounding = below_rounding .and. abs(increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i))
+         weighted = abs(increment(i))*inverse_tolerance(i)
+         below_rounding = below_rounding .and. (abs(increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i)) &
+            .or. weighted <= rounding_ulps*epsilon(1.0_dp))
          if (.not. ieee_is_finite(u(i))) return
-         size_now = max(size_now, abs(increment(i))*inverse_tolerance(i))
+         size_now = max(size_now, weighted)
       end do
       finite = .true.
    end subroutine add_increment
