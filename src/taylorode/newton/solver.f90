@@ -305,8 +305,8 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, known, fresh, first, below_rounding, estimated, finite, residual_nonzero
-      real(dp) :: size_now, size_before, contraction, error_factor
+      logical :: rebuild, known, fresh, first, below_rounding, estimated, finite
+      real(dp) :: size_now, size_before, contraction, error_factor, residual_largest
 
       n = size(settings%tolerance)
       m = size(u)
@@ -347,7 +347,7 @@ contains
          end if
          ! the residual is finite (else f or g gave NaN or Inf); its negative is the
          ! right-hand side of the Newton correction
-         call negate_finite(m, self%increment, finite, residual_nonzero)
+         call negate_finite(m, self%increment, finite, residual_largest)
          if (.not. finite) then
             call set_code(stat, status_nonfinite)
             return
@@ -380,11 +380,13 @@ contains
          ! singular in working precision (the stacked matrices' Schur complement once
          ! h |lambda| nears 1/epsilon, where 1 + h |lambda| rounds to h |lambda|, and i-t-2
          ! or si-t-2 would accept their starting guess, however wrong)
-         if (size_now == 0.0_dp .and. residual_nonzero) then
-            if (.not. correction_underflows()) then
-               self%kept(slot)%linear%factored = .false.
-               call set_code(stat, status_singular_matrix)
-               return
+         if (size_now == 0.0_dp) then
+            if (residual_largest > 0.0_dp) then
+               if (.not. correction_underflows()) then
+                  self%kept(slot)%linear%factored = .false.
+                  call set_code(stat, status_singular_matrix)
+                  return
+               end if
             end if
          end if
          ! after an exactly zero increment the contraction is unknown: it then neither
@@ -510,13 +512,12 @@ contains
       !> zero at any scale.
       logical function correction_underflows()
          real(dp) :: largest
-         logical :: nonzero
+         logical :: residual_finite
          correction_underflows = .false.
          call system%residual(problem, u, self%increment, counters)
          if (problem%evaluation_rejected()) return
-         call negate_finite(m, self%increment, finite, nonzero)
-         if (.not. (finite .and. nonzero)) return
-         largest = maxval(abs(self%increment(1:m)))
+         call negate_finite(m, self%increment, residual_finite, largest)
+         if (.not. (residual_finite .and. largest > 0.0_dp)) return
          self%increment(1:m) = scale(self%increment(1:m), -exponent(largest))
          call self%solve_linear(slot, self%increment, stat)
          counters%linear_solves = counters%linear_solves + 1
@@ -548,21 +549,21 @@ contains
 
    end subroutine solve
 
-   !> v = -v, stopping at the first entry that is not finite (finite false), and whether
-   !> some entry is not zero; explicit-shape so that the loop does not reload the
-   !> solver's descriptors at every entry (on a few unknowns that cost more than the
-   !> arithmetic).
-   pure subroutine negate_finite(m, v, finite, nonzero)
+   !> v = -v, stopping at the first entry that is not finite (finite false), and the
+   !> largest |v_i|; explicit-shape so that the loop does not reload the solver's
+   !> descriptors at every entry (on a few unknowns that cost more than the arithmetic).
+   pure subroutine negate_finite(m, v, finite, largest)
       integer, intent(in) :: m
       real(dp), intent(inout) :: v(m)
-      logical, intent(out) :: finite, nonzero
+      logical, intent(out) :: finite
+      real(dp), intent(out) :: largest
       integer :: i
       finite = .false.
-      nonzero = .false.
+      largest = 0.0_dp
       !GCC$ unroll 1
       do i = 1, m
          if (.not. ieee_is_finite(v(i))) return
-         nonzero = nonzero .or. v(i) /= 0.0_dp
+         largest = max(largest, abs(v(i)))
          v(i) = -v(i)
       end do
       finite = .true.
