@@ -326,8 +326,8 @@ contains
    end subroutine test_outputs_checked_first
 
    !> (4) A streamed history holds nothing in memory and writes every attempt (the file is
-   !> complete when integrate returns); a bounded one keeps at most its capacity and
-   !> counts the rest.
+   !> complete when integrate returns; write_history_csv refuses it, and writes nothing);
+   !> a bounded one keeps at most its capacity and counts the rest.
    subroutine test_history_streamed(error)
       type(error_type), allocatable, intent(out) :: error
       type(van_der_pol_type) :: problem
@@ -338,6 +338,7 @@ contains
       type(step_history_type) :: history
       type(line_type), allocatable :: lines(:)
       real(dp) :: u(2)
+      logical :: exists
 
       call fresh_scratch()
       problem = new_van_der_pol(10.0_dp)
@@ -355,6 +356,13 @@ contains
          history%count == stats%accepted_steps + stats%rejected_steps(), "streamed rows")
       if (allocated(error)) return
       call check(error, lines(1)%text, "step,t,h,err,outcome,newton_iterations,u1,u2")
+      if (allocated(error)) return
+      ! its rows are in the file only: written again from memory it is refused (it read
+      ! past the arrays before: SIGSEGV), and no file appears
+      call write_history_csv(history, scratch//"/out/again.csv", stat)
+      inquire (file=scratch//"/out/again.csv", exist=exists)
+      call check(error, stat%code == status_invalid_argument .and. .not. exists, "write_history_csv of a "// &
+         "streamed history: "//stat_message(stat))
       if (allocated(error)) return
 
       history = step_history_type(capacity=50)

@@ -341,12 +341,19 @@ contains
       type(step_history_type), intent(in) :: history
       !> Output file (replaced by a complete new one)
       character(len=*), intent(in) :: filename
-      !> status_output_error when the file cannot be written
+      !> status_output_error when the file cannot be written, status_invalid_argument for
+      !> a history whose steps are not in memory (it was streamed to a file)
       type(status_type), intent(out) :: stat
       type(text_file_type) :: file
       real(dp) :: no_state(0)
       integer :: i
 
+      ! (a streamed history counts its rows but keeps none: they were read past the arrays)
+      if (history%count > rows_in_memory(history)) then
+         call set_status(stat, status_invalid_argument, "write_history_csv: the history keeps no steps in memory "// &
+            "(it was streamed to a file)")
+         return
+      end if
       call file%open(filename, stat)
       if (stat%code /= status_ok) return
       call write_header(file, history%state_columns)
@@ -361,5 +368,25 @@ contains
       end do
       call file%commit(stat)
    end subroutine write_history_csv
+
+   !> The attempts a history holds in memory: the rows of its arrays (0 where one is not
+   !> allocated; the states' columns too when it records states).
+   pure integer function rows_in_memory(history) result(rows)
+      type(step_history_type), intent(in) :: history
+      rows = 0
+      if (.not. (allocated(history%t) .and. allocated(history%h) .and. allocated(history%err) .and. &
+         allocated(history%outcome) .and. allocated(history%newton_iterations))) return
+      rows = min(size(history%t), size(history%h), size(history%err), size(history%outcome), &
+         size(history%newton_iterations))
+      if (history%state_columns > 0) then
+         if (.not. allocated(history%states)) then
+            rows = 0
+         else if (size(history%states, 1) < history%state_columns) then
+            rows = 0
+         else
+            rows = min(rows, size(history%states, 2))
+         end if
+      end if
+   end function rows_in_memory
 
 end module taylorode_integrate_history
