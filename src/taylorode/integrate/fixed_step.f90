@@ -1,6 +1,6 @@
 !> Fixed-step integration, for convergence studies and for users who choose h themselves.
 module taylorode_integrate_fixed_step
-   use taylorode_base_kinds, only: dp
+   use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, set_status, set_code, status_description, status_ok, &
       status_invalid_argument, status_nonfinite, status_evaluation_failed, status_out_of_memory
    use taylorode_base_strings, only: fixed_length_real
@@ -41,6 +41,7 @@ contains
       real(dp), allocatable :: u_new(:)
       type(newton_settings_type) :: newton
       integer :: i
+      integer(i8) :: step
       character(len=160) :: where
 
       t = t0
@@ -62,8 +63,10 @@ contains
       call scheme%take_step(problem, t, h, u, u_new, stat)   ! checks the arguments and restarts the scheme
       if (stat%code /= status_ok) return
       u = u_new
-      do i = 2, n_steps
-         t = t0 + real(i - 1, dp)*h
+      ! a 64-bit counter: to n_steps = huge(0) a default integer's increment overflows
+      ! after the last step, and the loop did not end
+      do step = 2_i8, int(n_steps, i8)
+         t = t0 + real(step - 1_i8, dp)*h
          call default_newton_settings(u, newton, stat)
          if (stat%code /= status_ok) then
             if (present(t_reached)) t_reached = t
