@@ -74,6 +74,17 @@ module test_integrator
       procedure :: jac_g => linear_decay_jac_g
    end type linear_decay_problem
 
+   !> y' = -rate (y - cos t) - sin t (y = cos t + (y(0) - 1) exp(-rate t)): the forcing
+   !> in f, the decay in g
+   type, extends(ode_problem) :: forced_decay_problem
+      real(dp) :: rate = 1.0e4_dp
+   contains
+      procedure :: f => forced_decay_f
+      procedure :: g => forced_decay_g
+      procedure :: jac_f => forced_decay_jac_f
+      procedure :: jac_g => forced_decay_jac_g
+   end type forced_decay_problem
+
    !> A stiff part that returns NaN at every t > 0
    type, extends(ode_problem) :: poisoned_problem
    contains
@@ -107,6 +118,7 @@ contains
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
          new_unittest("newton-ends-at-components-at-zero", test_newton_at_zero_components), &
+         new_unittest("steps-land-on-output-times", test_steps_land_on_outputs), &
          new_unittest("dense-output", test_dense_output), &
          new_unittest("step-history", test_step_history), &
          new_unittest("measured-times", test_measured_times), &
@@ -889,6 +901,35 @@ contains
       end do
    end subroutine test_tiny_first_step
 
+   !> si-t-2 on Prothero-Robinson with its forcing in f (y' = -1e4 (y - cos t) - sin t,
+   !> y(0) = 2) with output times 0, 0.01, ..., 10 (tol 1e-6): a step ended one rounding
+   !> short of an output time (0.08 + 0.05 = 0.12999999999999998, 0.13 ahead), the next
+   !> attempt had the output time inside and was retried to end there, with h = 2.8e-17:
+   !> status step-size underflow at t = 0.13, where the run without output times
+   !> succeeds. A step that lands within roundoff of an output time now ends there.
+   subroutine test_steps_land_on_outputs(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: outputs = 1001
+      real(dp), parameter :: tol = 1.0e-6_dp
+      type(forced_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), t_out(outputs), u_out(1, outputs), worst
+      integer :: k
+
+      t_out = [(10.0_dp*real(k - 1, dp)/real(outputs - 1, dp), k=1, outputs)]
+      options = integrator_options_type(rtol=tol, atol=tol)
+      call new_scheme("si-t-2", scheme, stat)
+      u = [2.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat, t_out=t_out, u_out=u_out)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      worst = maxval(abs(u_out(1, :) - (cos(t_out) + exp(-problem%rate*t_out)))/(tol + tol*abs(cos(t_out))))
+      call check(error, worst <= 100.0_dp, "output error "//format_real(worst)//" tolerances")
+   end subroutine test_steps_land_on_outputs
+
    !> HIRES from its start, where seven of its eight components are 0, with i-t-1 and the
    !> embedded estimate (i-t-2's Newton for it) at rtol 1e-6, atol 1e-10: the increments
    !> of the components at 0 (1e-41, 1e-28 of their tolerance) were not "within the
@@ -1190,6 +1231,34 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac = 2.0_dp*u(1)
    end subroutine blow_up_jac_g
+
+   subroutine forced_decay_f(self, t, u, dudt)
+      class(forced_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = self%rate*cos(t) - sin(t)
+   end subroutine forced_decay_f
+
+   subroutine forced_decay_g(self, t, u, dudt)
+      class(forced_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = -self%rate*u
+   end subroutine forced_decay_g
+
+   subroutine forced_decay_jac_f(self, t, u, jac)
+      class(forced_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = 0.0_dp
+   end subroutine forced_decay_jac_f
+
+   subroutine forced_decay_jac_g(self, t, u, jac)
+      class(forced_decay_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = -self%rate
+   end subroutine forced_decay_jac_g
 
    subroutine linear_decay_g(self, t, u, dudt)
       class(linear_decay_problem), intent(inout) :: self

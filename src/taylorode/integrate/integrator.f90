@@ -387,6 +387,8 @@ contains
       real(dp) :: cpu_start, cpu_end
       integer :: failures, troubles, singular, outcome, next_output, last_failure
       logical :: last, need_step, stop_here, rhs_pending, prebuilt
+      ! the end of the attempted step: t + h, or the target or an output time it lands on
+      real(dp) :: t_step_end
       character(len=400) :: text
 
       if (self%options%measure_time) then
@@ -451,6 +453,12 @@ contains
          end if
          attempts = attempts + 1
          newton_before = scheme%counters%newton_iterations
+         t_step_end = merge(t_target, t + h, last)
+         ! a step that lands within roundoff of an output time ends there, as one that
+         ! lands on the target does: t + h could end one rounding short of it, and the
+         ! next attempt, with the output time inside, was retried to end there with h =
+         ! t_out - t, one rounding of t (a step-size underflow)
+         if (present(t_out) .and. .not. last) call land_on_output(t_step_end)
          err = nan
          call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
 
@@ -458,7 +466,7 @@ contains
          ! middle of the step, must pass its error test too: else the step is taken back
          ! and retried shorter (to end at that output time)
          if (outcome == attempt_accepted .and. (present(t_out) .or. present(events))) then
-            if (dense_output_rejected(merge(t_target, t + h, last), h_retry)) then
+            if (dense_output_rejected(t_step_end, h_retry)) then
                call self%stepper%undo_acceptance()
                outcome = attempt_rejected_output
                h_next = h_retry
@@ -488,7 +496,7 @@ contains
             call_stats%h_max_accepted = max(call_stats%h_max_accepted, h)
             stop_here = .false.
             if (need_step) then
-               call accept_into_step(merge(t_target, t + h, last))
+               call accept_into_step(t_step_end)
                if (stat%code /= status_ok) exit
             end if
             if (stop_here) then
@@ -496,11 +504,7 @@ contains
                u = self%step%u_end
             else
                u = self%stepper%u_new
-               if (last) then
-                  t = t_target
-               else
-                  t = t + h
-               end if
+               t = t_step_end
             end if
             call_stats%t_reached = t
             if (need_step) call push_ring(t, u)
@@ -709,6 +713,22 @@ contains
             end if
          end associate
       end subroutine build_step
+
+      !> The output time within roundoff of a step's end (from next_output on), which the
+      !> step then ends at: t_end_of_step becomes it, else stays.
+      subroutine land_on_output(t_end_of_step)
+         !> t + h on entry; the output time within roundoff of it, if there is one
+         real(dp), intent(inout) :: t_end_of_step
+         real(dp) :: roundoff
+         integer :: k
+         roundoff = roundoff_steps*epsilon(1.0_dp)*abs(t_end_of_step)
+         do k = next_output, size(t_out)
+            if (t_out(k) >= t_end_of_step - roundoff) then
+               if (t_out(k) <= t_end_of_step + roundoff) t_end_of_step = t_out(k)
+               return
+            end if
+         end do
+      end subroutine land_on_output
 
       !> Whether the dense output of the step just accepted, [t, t_end_of_step], fails its
       !> error test, and the step size to retry with: the error estimated from the newest
