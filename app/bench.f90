@@ -83,7 +83,7 @@ contains
       call say("peak memory of this process: "//format_fixed(real(peak_memory_kib(), dp)/1024.0_dp, 1)//" MiB")
       if (allocated(request%csv_file)) call write_csv(request%csv_file, &
          "solver,problem,tol,rtol,atol,status,steps,rejected,nfe,nfe_expl,nfe_impl,njac,nlu,nniter,cpu_s,reps,"// &
-         "err_end,err_grid", csv_rows(:rows), stat)
+         "err_end,err_grid", csv_rows(:rows), request%force, stat)
    end subroutine run_bench
 
    !> The benchmark problem `name` as the peer harness defines it.

@@ -216,7 +216,8 @@ contains
       do t = 1, size(tables)
          path = request%out_dir//"/"//tables(t)%file_name
          file_stat = status_type()
-         call file%open(path, file_stat)
+         ! (a file that appeared since check_outputs is kept without --force)
+         call file%open(path, file_stat, replace=request%force)
          if (file_stat%code == status_ok) then
             call file%write_line(tables(t)%header)
             do r = 1, tables(t)%count
@@ -233,13 +234,15 @@ contains
    end subroutine write_tables
 
    !> Write a CSV file (header and rows) in one piece.
-   subroutine write_csv(path, header, rows, stat)
+   subroutine write_csv(path, header, rows, force, stat)
       character(len=*), intent(in) :: path, header
       type(text_type), intent(in) :: rows(:)
+      !> Whether a file at path (one that appeared since check_outputs) may be replaced
+      logical, intent(in) :: force
       type(status_type), intent(out) :: stat
       type(text_file_type) :: file
       integer :: r
-      call file%open(path, stat)
+      call file%open(path, stat, replace=force)
       if (stat%code /= status_ok) return
       call file%write_line(header)
       do r = 1, size(rows)

@@ -45,7 +45,7 @@ contains
       if (stat%code /= status_ok) return
       u = problem%u0
       if (allocated(request%history_file)) then
-         call history%stream_to(request%history_file, stat)
+         call history%stream_to(request%history_file, stat, replace=request%force)
          if (stat%code /= status_ok) return
          call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, run_stat, history=history, &
             t_out=t_out, u_out=u_out)

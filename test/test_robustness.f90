@@ -16,6 +16,7 @@ module test_robustness
       transistor_amplifier_type, new_transistor_amplifier, test_problem_type, new_medical_akzo, new_test_problem, &
       test_problem_names
    use taylorode_base_strings, only: format_real, fixed_length_real, format_integer
+   use taylorode_base_files, only: text_file_type
    use taylorode_interfaces_legacy, only: legacy_solve, legacy_no_mass, jac_interface
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite
    use, intrinsic :: iso_c_binding, only: c_long_long, c_ptr, c_char, c_int, c_double, c_null_char, c_f_pointer, &
@@ -104,6 +105,7 @@ contains
          new_unittest("file-size-limit-is-a-status", test_file_size_limit), &
          new_unittest("outputs-checked-before-work", test_outputs_checked_first), &
          new_unittest("history-streamed-and-bounded", test_history_streamed), &
+         new_unittest("file-that-appeared-kept-unless-replaced", test_file_appeared_kept), &
          new_unittest("history-reused", test_history_reused), &
          new_unittest("history-stream-never-left-behind", test_history_stream_completed), &
          new_unittest("concurrent-integrations", test_concurrent_integrations), &
@@ -324,6 +326,60 @@ contains
       call run_app("stability --grid 3 --out /proc/taylorode-test", run)
       call check(error, run%exit_status, 2, "an output directory that cannot be created")
    end subroutine test_outputs_checked_first
+
+   !> A file opened not to replace (what the app does without --force, having found no
+   !> file at the destination when it started) keeps a file that appeared there before the
+   !> commit: status_output_error, the other file as it was, no temporary file left
+   !> (rename(2) replaced it); with replace (the default) the new one takes its place.
+   !> write_history_csv and stream_to pass the choice on.
+   subroutine test_file_appeared_kept(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(text_file_type) :: file
+      type(status_type) :: stat
+      type(step_history_type) :: history
+      type(line_type), allocatable :: lines(:)
+      character(len=*), parameter :: name = "appeared.csv"
+      integer :: unit
+
+      call fresh_scratch()
+      call file%open(scratch//"/out/"//name, stat, replace=.false.)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call file%write_line("new")
+      open (newunit=unit, file=scratch//"/out/"//name, status="new", action="write")
+      write (unit, '(a)') "user data"
+      close (unit)
+      call file%commit(stat)
+      call read_lines(scratch//"/out/"//name, lines)
+      call check(error, stat%code == status_output_error .and. index(stat_message(stat), "exists") > 0 .and. &
+         size(lines) == 1, "commit without replace: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, lines(1)%text, "user data")
+      if (allocated(error)) return
+      call check(error, count_files(scratch//"/out"), 1, "files left in the directory")
+      if (allocated(error)) return
+      ! the default replaces it
+      stat = status_type()
+      call file%open(scratch//"/out/"//name, stat)
+      call file%write_line("new")
+      call file%commit(stat)
+      call read_lines(scratch//"/out/"//name, lines)
+      call check(error, stat%code == status_ok .and. lines(1)%text == "new", "commit with replace: "// &
+         stat_message(stat))
+      if (allocated(error)) return
+      stat = status_type()
+      call write_history_csv(history, scratch//"/out/"//name, stat, replace=.false.)
+      call check(error, stat%code, status_output_error, "write_history_csv without replace: "//stat_message(stat))
+   contains
+      !> Entries of a directory (ls -A | wc -l)
+      integer function count_files(directory)
+         character(len=*), intent(in) :: directory
+         type(line_type), allocatable :: listing(:)
+         call execute_command_line("ls -A "//directory//" > "//scratch//"/listing.txt")
+         call read_lines(scratch//"/listing.txt", listing)
+         count_files = size(listing)
+      end function count_files
+   end subroutine test_file_appeared_kept
 
    !> (4) A streamed history holds nothing in memory and writes every attempt (the file is
    !> complete when integrate returns; write_history_csv refuses it, and writes nothing);

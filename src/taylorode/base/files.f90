@@ -35,6 +35,8 @@ module taylorode_base_files
       integer(c_int) :: descriptor = -1_c_int
       !> Whether the destination itself is being written
       logical :: in_place = .false.
+      !> Whether `commit` may replace a destination that exists by then
+      logical :: replace = .true.
       !> Bytes not yet written (allocated when the file is opened)
       character(len=:), allocatable :: buffer
       !> How many bytes of the buffer are in use
@@ -90,6 +92,11 @@ module taylorode_base_files
          character(kind=c_char), intent(in) :: from(*), to(*)
          integer(c_int) :: status
       end function c_rename
+      function c_link(existing, new) bind(c, name="link") result(status)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: existing(*), new(*)
+         integer(c_int) :: status
+      end function c_link
       function c_unlink(path) bind(c, name="unlink") result(status)
          import :: c_int, c_char
          character(kind=c_char), intent(in) :: path(*)
@@ -127,8 +134,8 @@ module taylorode_base_files
    integer(c_int), parameter :: o_wronly = 1_c_int, o_creat = int(o'100', c_int), o_excl = int(o'200', c_int)
    !> Permissions of new files and directories before the umask
    integer(c_int), parameter :: file_mode = int(o'666', c_int), directory_mode = int(o'777', c_int)
-   !> access(2) modes: write and search permission
-   integer(c_int), parameter :: w_ok = 2_c_int, x_ok = 1_c_int
+   !> access(2) modes: existence, write and search permission
+   integer(c_int), parameter :: f_ok = 0_c_int, w_ok = 2_c_int, x_ok = 1_c_int
    !> statx(2): relative to the working directory, the file type wanted, struct statx
    !> size and the offset of its 16-bit stx_mode (a layout fixed on every architecture)
    integer(c_int), parameter :: at_fdcwd = -100_c_int, statx_type = 1_c_int
@@ -234,15 +241,20 @@ contains
 
    !> Start writing `path`: a new temporary file in the same directory receives the
    !> bytes (the destination itself when it is a device or a pipe).
-   subroutine text_file_open(self, path, stat)
+   subroutine text_file_open(self, path, stat, replace)
       !> The file
       class(text_file_type), intent(inout) :: self
       !> Destination
       character(len=*), intent(in) :: path
       !> status_output_error when it cannot be opened
       type(status_type), intent(inout) :: stat
+      !> Whether `commit` may replace a file at path that exists by then (default true;
+      !> false: such a file is kept and commit fails)
+      logical, intent(in), optional :: replace
       character(len=32) :: suffix
       integer :: attempt, memory
+      self%replace = .true.
+      if (present(replace)) self%replace = replace
       self%path = path
       self%io_error = 0
       self%used = 0
@@ -354,9 +366,10 @@ contains
       self%used = 0
    end subroutine write_buffer
 
-   !> Write what is left, close, and rename the temporary file onto the destination.
-   !> On any failure (a write, the close or the rename) the temporary file is removed,
-   !> the destination is left as it was, and stat says why.
+   !> Write what is left, close, and rename the temporary file onto the destination (or,
+   !> opened with replace false, link it there, which fails where a file exists by then).
+   !> On any failure (a write, the close, the rename or link) the temporary file is
+   !> removed, the destination is left as it was, and stat says why.
    subroutine text_file_commit(self, stat)
       !> The file
       class(text_file_type), intent(inout) :: self
@@ -378,10 +391,27 @@ contains
             trim(self%io_message))
          return
       end if
-      if (self%io_error == 0) then
+      if (self%io_error == 0 .and. self%replace) then
          if (c_rename(self%temporary//c_null_char, self%path//c_null_char) == 0) return
          self%io_error = -1
          self%io_message = last_error()
+      else if (self%io_error == 0) then
+         ! link(2) fails where the destination exists (rename(2) would replace it): a
+         ! file that appeared since the caller checked is kept. Where the file system has
+         ! no hard links, rename(2) if nothing is there (a race left open only there)
+         if (c_link(self%temporary//c_null_char, self%path//c_null_char) == 0) then
+            ignored = c_unlink(self%temporary//c_null_char)
+            return
+         end if
+         if (last_errno() == errno_exists) then
+            self%io_message = "it exists by now"
+         else if (c_access(self%path//c_null_char, f_ok) /= 0) then
+            if (c_rename(self%temporary//c_null_char, self%path//c_null_char) == 0) return
+            self%io_message = last_error()
+         else
+            self%io_message = "it exists by now"
+         end if
+         self%io_error = -1
       end if
       ignored = c_unlink(self%temporary//c_null_char)
       call set_status(stat, status_output_error, "cannot write "//self%path//": "//trim(self%io_message)// &

@@ -275,17 +275,20 @@ contains
    !> Send every following row into the CSV file `path`, written to a temporary file
    !> beside it until `finish` renames it into place (`integrate` finishes it when it
    !> returns). A stream not yet finished is dropped first (its destination left as it was).
-   subroutine stream_to(self, path, stat)
+   subroutine stream_to(self, path, stat, replace)
       !> The history
       class(step_history_type), intent(inout) :: self
       !> Destination (an existing file is replaced only by a complete new one)
       character(len=*), intent(in) :: path
       !> status_output_error when the file cannot be created (left as it was otherwise)
       type(status_type), intent(inout) :: stat
+      !> Whether a file at path may be replaced (default true; false: one there when the
+      !> stream is finished is kept, and finish fails)
+      logical, intent(in), optional :: replace
       type(status_type) :: open_stat
       if (self%streaming) call self%stream%discard()
       self%streaming = .false.
-      call self%stream%open(path, open_stat)
+      call self%stream%open(path, open_stat, replace)
       if (open_stat%code /= status_ok) then
          stat = open_stat
          return
@@ -336,7 +339,7 @@ contains
 
    !> Write a history kept in memory as CSV: step,t,h,err,outcome,newton_iterations[,u1,...].
    !> The file appears only when it was written completely.
-   subroutine write_history_csv(history, filename, stat)
+   subroutine write_history_csv(history, filename, stat, replace)
       !> The recorded history
       type(step_history_type), intent(in) :: history
       !> Output file (replaced by a complete new one)
@@ -344,6 +347,9 @@ contains
       !> status_output_error when the file cannot be written, status_invalid_argument for
       !> a history whose steps are not in memory (it was streamed to a file)
       type(status_type), intent(out) :: stat
+      !> Whether a file at filename may be replaced (default true; false: one there when
+      !> the file is complete is kept, status_output_error)
+      logical, intent(in), optional :: replace
       type(text_file_type) :: file
       real(dp) :: no_state(0)
       integer :: i
@@ -354,7 +360,7 @@ contains
             "(it was streamed to a file)")
          return
       end if
-      call file%open(filename, stat)
+      call file%open(filename, stat, replace)
       if (stat%code /= status_ok) return
       call write_header(file, history%state_columns)
       do i = 1, history%count
