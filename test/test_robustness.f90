@@ -331,7 +331,8 @@ contains
    !> file at the destination when it started) keeps a file that appeared there before the
    !> commit: status_output_error, the other file as it was, no temporary file left
    !> (rename(2) replaced it); with replace (the default) the new one takes its place.
-   !> write_history_csv and stream_to pass the choice on.
+   !> write_history_csv and stream_to pass the choice on. A file name of 250 bytes is
+   !> written too (its temporary name is cut to NAME_MAX).
    subroutine test_file_appeared_kept(error)
       type(error_type), allocatable, intent(out) :: error
       type(text_file_type) :: file
@@ -370,6 +371,12 @@ contains
       stat = status_type()
       call write_history_csv(history, scratch//"/out/"//name, stat, replace=.false.)
       call check(error, stat%code, status_output_error, "write_history_csv without replace: "//stat_message(stat))
+      if (allocated(error)) return
+      ! a name of 250 bytes (its temporary name was 250 + ".tmp-PID-1", beyond NAME_MAX)
+      stat = status_type()
+      call write_history_csv(history, scratch//"/out/"//repeat("n", 246)//".csv", stat)
+      call check(error, stat%code == status_ok .and. file_exists(scratch//"/out/"//repeat("n", 246)//".csv"), &
+         "a file name of 250 bytes: "//stat_message(stat))
    contains
       !> Entries of a directory (ls -A | wc -l)
       integer function count_files(directory)

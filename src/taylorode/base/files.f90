@@ -23,6 +23,8 @@ module taylorode_base_files
 
    !> Bytes collected before each write(2)
    integer, parameter :: buffer_size = 65536
+   !> Longest file name (one path component) of the file systems (NAME_MAX)
+   integer, parameter :: name_max = 255
 
    !> A text file being written: lines go to a temporary file until `commit`
    type :: text_file_type
@@ -275,6 +277,11 @@ contains
          call set_status(stat, status_output_error, "cannot write "//path//": it is a directory")
          return
       end if
+      ! (the temporary name is cut to fit, the destination's cannot be)
+      if (len(path) - index(path, "/", back=.true.) > name_max) then
+         call set_status(stat, status_output_error, "cannot write "//path//": File name too long")
+         return
+      end if
       if (is_special_file(path)) then
          self%in_place = .true.
          self%temporary = path
@@ -282,7 +289,7 @@ contains
       else
          do attempt = 1, temporary_attempts
             write (suffix, '(".tmp-", i0, "-", i0)') c_getpid(), attempt
-            self%temporary = path//trim(suffix)
+            self%temporary = temporary_name(path, trim(suffix))
             self%descriptor = c_open(self%temporary//c_null_char, ior(o_wronly, ior(o_creat, o_excl)), file_mode)
             if (self%descriptor >= 0) exit
             if (last_errno() /= errno_exists) exit
@@ -291,6 +298,19 @@ contains
       if (self%descriptor < 0) call set_status(stat, status_output_error, "cannot write "//path//": "// &
          trim(last_error()))
    end subroutine text_file_open
+
+   !> path//suffix, its last component cut where that would pass name_max bytes (a file
+   !> name of 250 bytes could not be written: its temporary name was too long).
+   pure function temporary_name(path, suffix) result(name)
+      !> The destination
+      character(len=*), intent(in) :: path
+      !> What marks the temporary file
+      character(len=*), intent(in) :: suffix
+      character(len=:), allocatable :: name
+      integer :: directory_end
+      directory_end = index(path, "/", back=.true.)
+      name = path(:min(len(path), directory_end + name_max - len(suffix)))//suffix
+   end function temporary_name
 
    !> Write to a descriptor that is already open (e.g. 1, standard output), in place;
    !> `commit` writes what is left and closes it.
