@@ -11,7 +11,7 @@ module app_output
    use taylorode_base_status, only: set_status
    use taylorode_base_strings, only: format_real
    use taylorode_base_files, only: text_file_type, make_directory, is_directory, is_writable_directory, &
-      parent_directory
+      parent_directory, is_special_file
    use app_cli, only: request_type
    implicit none
    private
@@ -163,6 +163,10 @@ contains
             " is not a writable directory")
          return
       end if
+      ! a device or a pipe is written in place: not opened to probe it (a named pipe's
+      ! reader took the probe's close for the end, and the real open then waited for a
+      ! reader for ever)
+      if (is_special_file(path)) return
       ! the file itself can be created there (a name too long, a file system that refuses it)
       call file%open(path, stat)
       if (stat%code /= status_ok) then

@@ -106,6 +106,7 @@ contains
          new_unittest("outputs-checked-before-work", test_outputs_checked_first), &
          new_unittest("history-streamed-and-bounded", test_history_streamed), &
          new_unittest("file-that-appeared-kept-unless-replaced", test_file_appeared_kept), &
+         new_unittest("history-into-a-named-pipe", test_history_into_pipe), &
          new_unittest("history-reused", test_history_reused), &
          new_unittest("history-stream-never-left-behind", test_history_stream_completed), &
          new_unittest("concurrent-integrations", test_concurrent_integrations), &
@@ -387,6 +388,25 @@ contains
          count_files = size(listing)
       end function count_files
    end subroutine test_file_appeared_kept
+
+   !> The app writes a history into a named pipe (--force: it exists) for a reader that
+   !> is already there: its check of the outputs opened and closed the pipe to probe it,
+   !> the reader took that for the end, and the real open waited for another reader for
+   !> ever (timeout 30 s here: exit status 124; 2 of 3 runs before).
+   subroutine test_history_into_pipe(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(run_type) :: run
+      type(line_type), allocatable :: lines(:)
+      call fresh_scratch()
+      call run_command("mkfifo "//scratch//"/out/pipe && { cat "//scratch//"/out/pipe > "//scratch// &
+         "/out/read.csv & } && timeout 30 "//app_path()//" vdp --mu 1 --tend 1 --dense 2 --history "// &
+         scratch//"/out/pipe --force; status=$?; wait; exit $status", run)
+      call read_lines(scratch//"/out/read.csv", lines)
+      call check(error, run%exit_status == 0 .and. size(lines) > 1, "exit status "// &
+         format_integer(run%exit_status)//", "//format_integer(size(lines))//" lines through the pipe")
+      if (allocated(error)) return
+      call check(error, lines(1)%text(1:4), "step")
+   end subroutine test_history_into_pipe
 
    !> (4) A streamed history holds nothing in memory and writes every attempt (the file is
    !> complete when integrate returns; write_history_csv refuses it, and writes nothing);

@@ -19,7 +19,7 @@ module taylorode_base_files
    implicit none
    private
 
-   public :: text_file_type, make_directory, is_directory, is_writable_directory, parent_directory
+   public :: text_file_type, make_directory, is_directory, is_writable_directory, parent_directory, is_special_file
 
    !> Bytes collected before each write(2)
    integer, parameter :: buffer_size = 65536
@@ -191,7 +191,9 @@ contains
    !> Whether path exists and is something other than a regular file or a directory
    !> (a device, a pipe, a socket): such a destination is written in place.
    function is_special_file(path) result(special)
+      !> The path
       character(len=*), intent(in) :: path
+      !> Whether it is a device, a pipe or a socket
       logical :: special
       integer(c_int8_t) :: buffer(statx_size)
       integer :: mode
