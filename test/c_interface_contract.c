@@ -143,6 +143,17 @@ int main(void) {
   expect(taylorode_get_stats(ode, &stats) == TAYLORODE_OK && strstr(taylorode_message(ode), "no_such_option"),
          "get_stats leaves the message of the failure before it", taylorode_message(ode));
 
+  /* bandwidths changed after init: the scheme's matrices were made for the old ones, so
+     advance_to is refused until init again (it read the new work array with the old bands:
+     an invalid read, a double free before) */
+  u[0] = 1.0;
+  expect(taylorode_set_bandwidths(ode, 0, 0) == TAYLORODE_OK && taylorode_init(ode, 0.0, u) == TAYLORODE_OK,
+         "init with bands 0, 0", taylorode_message(ode));
+  expect(taylorode_set_bandwidths(ode, 0, 0) == TAYLORODE_OK, "set_bandwidths after init", taylorode_message(ode));
+  expect_refused(taylorode_advance_to(ode, 1.0, u), TAYLORODE_INVALID_ARGUMENT, ode, "advance_to after set_bandwidths");
+  expect(taylorode_init(ode, 0.0, u) == TAYLORODE_OK && taylorode_advance_to(ode, 1.0, u) == TAYLORODE_OK,
+         "init again, then advance_to", taylorode_message(ode));
+
   taylorode_free(ode);
   printf("%d failed\n", failures);
   return failures;

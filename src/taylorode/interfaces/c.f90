@@ -279,6 +279,13 @@ contains
       end if
       call move_alloc(work, session%problem%band_work)
       session%problem%structure = band_structure(lower, upper)
+      ! the scheme's matrices were made for the bands at taylorode_init: the integration
+      ! cannot go on with others (advance_to read the new work array with the old bands,
+      ! past its end); taylorode_init starts it again
+      if (session%started) then
+         session%integrator%ready = .false.
+         session%started = .false.
+      end if
       code = succeeded(session)
    end function taylorode_set_bandwidths
 
@@ -452,6 +459,11 @@ contains
       if (.not. associated(session)) return
       if (.not. present(u)) then
          code = refused(session, "taylorode_advance_to: u is NULL (it must point to n values)")
+         return
+      end if
+      if (.not. session%started) then
+         code = refused(session, "taylorode_advance_to: call taylorode_init first (again after "// &
+            "taylorode_set_bandwidths)")
          return
       end if
       call session%integrator%advance_to(session%problem, session%scheme, t, u(:session%n), stat)
