@@ -5,13 +5,13 @@
 !> place when complete.
 module app_output
    use, intrinsic :: iso_fortran_env, only: error_unit
-   use, intrinsic :: iso_c_binding, only: c_int
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use taylorode, only: dp, status_type, status_ok, status_invalid_argument, status_name
    use taylorode_base_status, only: set_status
    use taylorode_base_strings, only: format_real
    use taylorode_base_files, only: text_file_type, make_directory, is_directory, is_writable_directory, &
-      parent_directory, is_special_file
+      parent_directory, is_special_file, temporary_path
    use app_cli, only: request_type
    implicit none
    private
@@ -43,6 +43,11 @@ module app_output
          import :: c_int
          integer(c_int) :: status
       end function c_ignore_file_size_signal
+      function c_remove_on_signal(path) result(status) bind(c, name="taylorode_app_remove_on_signal")
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int) :: status
+      end function c_remove_on_signal
    end interface
 
 contains
@@ -149,6 +154,7 @@ contains
       type(status_type), intent(inout) :: stat
       type(text_file_type) :: file
       logical :: exists
+      integer(c_int) :: signal_status
       if (is_directory(path)) then
          call set_status(stat, status_invalid_argument, path//" is a directory")
          return
@@ -174,6 +180,10 @@ contains
          return
       end if
       call file%discard()
+      ! a run ended by SIGINT, SIGTERM or SIGHUP removes the temporary file it was writing
+      ! (a killed --history left tens of MB beside its destination); when it cannot
+      ! arrange that, the file is left as before: nothing else to do
+      signal_status = c_remove_on_signal(temporary_path(path, 1)//c_null_char)
    end subroutine check_target
 
    !> Start a CSV table; returns its index.

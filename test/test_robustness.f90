@@ -107,6 +107,7 @@ contains
          new_unittest("history-streamed-and-bounded", test_history_streamed), &
          new_unittest("file-that-appeared-kept-unless-replaced", test_file_appeared_kept), &
          new_unittest("history-into-a-named-pipe", test_history_into_pipe), &
+         new_unittest("killed-run-leaves-no-temporary", test_killed_run), &
          new_unittest("history-reused", test_history_reused), &
          new_unittest("history-stream-never-left-behind", test_history_stream_completed), &
          new_unittest("concurrent-integrations", test_concurrent_integrations), &
@@ -407,6 +408,26 @@ contains
       if (allocated(error)) return
       call check(error, lines(1)%text(1:4), "step")
    end subroutine test_history_into_pipe
+
+   !> A run ended by SIGINT or SIGTERM while it streams its history (timeout sends the
+   !> signal after 1 s of a run that takes tens of seconds) leaves neither the history nor
+   !> its temporary file (it left h.csv.tmp-PID-1, 34 MB after a second).
+   subroutine test_killed_run(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: signals(2) = ["INT ", "TERM"]
+      type(run_type) :: run
+      integer :: k
+      do k = 1, size(signals)
+         call fresh_scratch()
+         call run_command("timeout -s "//trim(signals(k))//" 1 "//app_path()//" vdp --mu 1000 --tend 3e6 "// &
+            "--history "//scratch//"/out/h.csv", run)
+         call check(error, run%exit_status == 124 .and. .not. temporary_file_in(scratch//"/out") .and. &
+            .not. file_exists(scratch//"/out/h.csv"), "SIG"//trim(signals(k))//": exit status "// &
+            format_integer(run%exit_status)//", a temporary file left: "// &
+            merge("yes", "no ", temporary_file_in(scratch//"/out")))
+         if (allocated(error)) return
+      end do
+   end subroutine test_killed_run
 
    !> (4) A streamed history holds nothing in memory and writes every attempt (the file is
    !> complete when integrate returns; write_history_csv refuses it, and writes nothing);

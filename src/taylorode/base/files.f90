@@ -19,7 +19,8 @@ module taylorode_base_files
    implicit none
    private
 
-   public :: text_file_type, make_directory, is_directory, is_writable_directory, parent_directory, is_special_file
+   public :: text_file_type, make_directory, is_directory, is_writable_directory, parent_directory, is_special_file, &
+      temporary_path
 
    !> Bytes collected before each write(2)
    integer, parameter :: buffer_size = 65536
@@ -255,7 +256,6 @@ contains
       !> Whether `commit` may replace a file at path that exists by then (default true;
       !> false: such a file is kept and commit fails)
       logical, intent(in), optional :: replace
-      character(len=32) :: suffix
       integer :: attempt, memory
       self%replace = .true.
       if (present(replace)) self%replace = replace
@@ -290,8 +290,7 @@ contains
          self%descriptor = c_open(path//c_null_char, o_wronly, 0_c_int)
       else
          do attempt = 1, temporary_attempts
-            write (suffix, '(".tmp-", i0, "-", i0)') c_getpid(), attempt
-            self%temporary = temporary_name(path, trim(suffix))
+            self%temporary = temporary_path(path, attempt)
             self%descriptor = c_open(self%temporary//c_null_char, ior(o_wronly, ior(o_creat, o_excl)), file_mode)
             if (self%descriptor >= 0) exit
             if (last_errno() /= errno_exists) exit
@@ -301,18 +300,21 @@ contains
          trim(last_error()))
    end subroutine text_file_open
 
-   !> path//suffix, its last component cut where that would pass name_max bytes (a file
-   !> name of 250 bytes could not be written: its temporary name was too long).
-   pure function temporary_name(path, suffix) result(name)
+   !> The temporary file `open` writes for path in its attempt'th try: path.tmp-PID-attempt
+   !> beside it, the last component cut where that would pass name_max bytes (a file name
+   !> of 250 bytes could not be written: its temporary name was too long).
+   function temporary_path(path, attempt) result(name)
       !> The destination
       character(len=*), intent(in) :: path
-      !> What marks the temporary file
-      character(len=*), intent(in) :: suffix
+      !> Which try (1 unless a file of that name was there)
+      integer, intent(in) :: attempt
       character(len=:), allocatable :: name
+      character(len=32) :: suffix
       integer :: directory_end
+      write (suffix, '(".tmp-", i0, "-", i0)') c_getpid(), attempt
       directory_end = index(path, "/", back=.true.)
-      name = path(:min(len(path), directory_end + name_max - len(suffix)))//suffix
-   end function temporary_name
+      name = path(:min(len(path), directory_end + name_max - len_trim(suffix)))//trim(suffix)
+   end function temporary_path
 
    !> Write to a descriptor that is already open (e.g. 1, standard output), in place;
    !> `commit` writes what is left and closes it.
