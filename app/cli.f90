@@ -104,14 +104,17 @@ module app_cli
 
 contains
 
-   !> Every command-line argument, padded to a common length.
-   subroutine read_arguments(args)
+   !> Every command-line argument, padded to a common length, and its own length (so
+   !> that trailing blanks are kept: `--history "h.csv "` named h.csv).
+   subroutine read_arguments(args, lengths)
       character(len=:), allocatable, intent(out) :: args(:)
-      integer :: i, length, longest
+      integer, allocatable, intent(out) :: lengths(:)
+      integer :: i, longest
+      allocate (lengths(command_argument_count()))
       longest = 1
       do i = 1, command_argument_count()
-         call get_command_argument(i, length=length)
-         longest = max(longest, length)
+         call get_command_argument(i, length=lengths(i))
+         longest = max(longest, lengths(i))
       end do
       allocate (character(len=longest) :: args(command_argument_count()))
       do i = 1, command_argument_count()
@@ -121,10 +124,12 @@ contains
 
    !> Parse the arguments (without the program name) into a request; stat says what is
    !> wrong in words a user understands.
-   subroutine parse_command_line(args, request, stat)
+   subroutine parse_command_line(args, request, stat, lengths)
       character(len=*), intent(in) :: args(:)
       type(request_type), intent(out) :: request
       type(status_type), intent(out) :: stat
+      !> Each argument's own length (read_arguments'); without it trailing blanks are dropped
+      integer, intent(in), optional :: lengths(:)
       integer :: i
       character(len=:), allocatable :: arg, value
 
@@ -142,11 +147,11 @@ contains
       request%schemes = [character(len=16) :: "si-t-1", "si-t-2", "i-t-1", "i-t-2", "radau5"]
       i = 1
       if (size(args) >= 1) then
-         arg = trim(args(1))
+         arg = argument(1)
          if (arg == "help") then
             request%help = .true.
             request%command = ""
-            if (size(args) >= 2) request%command = trim(args(2))
+            if (size(args) >= 2) request%command = argument(2)
             if (len(request%command) > 0 .and. .not. any(command_names == request%command)) then
                call set_status(stat, status_invalid_argument, 'unknown command "'//request%command// &
                   '"; commands: '//join(command_names))
@@ -179,7 +184,7 @@ contains
       end if
 
       do while (i <= size(args))
-         arg = trim(args(i))
+         arg = argument(i)
          i = i + 1
          select case (arg)
          case ("-h", "--help")
@@ -218,7 +223,7 @@ contains
             call set_status(stat, status_invalid_argument, "option "//arg//" needs a value")
             return
          end if
-         value = trim(args(i))
+         value = argument(i)
          i = i + 1
          if (.not. parse_option(request, arg, value, stat)) return
       end do
@@ -236,6 +241,20 @@ contains
       if (request%repeats == 0) request%repeats = merge(default_table_repeats, default_repeats, request%command == "table")
       request%tols = [(request%tol_high/10.0_dp**i, i = 0, nint(log10(request%tol_high/request%tol_low)))]
       stat%code = status_ok
+
+   contains
+
+      !> Argument k as given (with its trailing blanks when the lengths are known)
+      function argument(k) result(text)
+         integer, intent(in) :: k
+         character(len=:), allocatable :: text
+         if (present(lengths)) then
+            text = args(k)(:lengths(k))
+         else
+            text = trim(args(k))
+         end if
+      end function argument
+
    end subroutine parse_command_line
 
    !> Apply one option with a value; false (and stat) on a mistake.

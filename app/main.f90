@@ -25,13 +25,14 @@ program taylorode_app
    type(table_type), allocatable :: tables(:)
    type(status_type) :: stat, write_stat
    character(len=:), allocatable :: args(:)
+   integer, allocatable :: lengths(:)
    integer :: io
 
    call ignore_file_size_signal()
    call start_output()
 
-   call read_arguments(args)
-   call parse_command_line(args, request, stat)
+   call read_arguments(args, lengths)
+   call parse_command_line(args, request, stat, lengths)
    if (stat%code /= status_ok) call usage_error(stat%message)
    if (request%version) then
       call say("taylorode "//version)

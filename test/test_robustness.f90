@@ -1221,7 +1221,8 @@ contains
       end subroutine expect_status
    end subroutine test_command_line_bounds
 
-   !> (14) Numbers are parsed strictly: "1-2" is not 1e-2 and "1+2" not 100.
+   !> (14) Numbers are parsed strictly: "1-2" is not 1e-2 and "1+2" not 100, "5 " no number;
+   !> arguments keep their trailing blanks.
    subroutine test_strict_numbers(error)
       type(error_type), allocatable, intent(out) :: error
       type(run_type) :: run
@@ -1235,6 +1236,20 @@ contains
       end do
       call run_app("vdp --mu 1.5e+1 --tend 1 --dense 2", run)
       call check(error, run%exit_status == 0 .and. has_line(run%stdout, "mu = 15,"), "--mu 1.5e+1")
+      if (allocated(error)) return
+      ! an argument is taken as given, blanks at its end too: "5 " is no number (as " 5"
+      ! is not), and a file name keeps them (both were cut off)
+      call run_app('vdp --mu "5 " --tend 1 --dense 2', run)
+      call check(error, run%exit_status == 2 .and. has_line(run%stderr, "needs a number"), '--mu "5 " accepted')
+      if (allocated(error)) return
+      call fresh_scratch()
+      call run_app('vdp --mu 5 --tend 1 --dense 2 --history "'//scratch//'/out/h.csv "', run)
+      call check(error, run%exit_status == 0 .and. .not. file_exists(scratch//"/out/h.csv"), &
+         '--history "h.csv ": written as h.csv')
+      if (allocated(error)) return
+      ! (Fortran's inquire drops the blank: the shell looks)
+      call run_command('test -s "'//scratch//'/out/h.csv "', run)
+      call check(error, run%exit_status, 0, '--history "h.csv ": no file "h.csv "')
    end subroutine test_strict_numbers
 
    !> (15) Options are cross-checked before any work (no reference run first).
