@@ -461,6 +461,8 @@ contains
          if (present(t_out) .and. .not. last) call land_on_output(t_step_end)
          err = nan
          call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
+         ! below the steps the scheme's solves cannot resolve (none but after such a solve)
+         h_next = min(h_next, scheme%largest_step())
 
          ! the dense output at an output time inside the step, and with events in the
          ! middle of the step, must pass its error test too: else the step is taken back

@@ -36,6 +36,11 @@ module taylorode_newton_solver
    !> Contraction factor, of two increments with a matrix built in the same solve, at
    !> which the iteration is declared divergent
    real(dp), parameter :: divergence_contraction = 2.0_dp
+   !> After a solve that kept no digit of its residual at step h, steps are held below
+   !> this fraction of h (the limit of the stacked matrices lies near h |lambda| =
+   !> 1/epsilon; a half would fail again once or twice, each failure counting towards
+   !> the integrator's limit of singular matrices)
+   real(dp), parameter :: step_limit_fraction = 0.25_dp
    !> An increment of at most this many units of rounding of the iterate, or of its
    !> tolerance, in every component, is all the iteration can resolve
    real(dp), parameter :: rounding_ulps = 4.0_dp
@@ -125,6 +130,9 @@ module taylorode_newton_solver
       real(dp), allocatable :: inverse_tolerance(:)
       !> The kept factorization the last solve used
       integer :: last_slot = 1
+      !> A quarter of the shortest step at which a solve kept no digit of its residual
+      !> (huge: none since the last `forget`): longer steps cannot be solved for
+      real(dp) :: step_limit = huge(1.0_dp)
    contains
       !> Allocate for systems of size m with a Newton matrix of the given structure
       procedure :: init
@@ -231,6 +239,7 @@ contains
       class(newton_solver_type), intent(inout) :: self
       self%kept%linear%factored = .false.
       self%kept%contraction = 1.0_dp
+      self%step_limit = huge(1.0_dp)
    end subroutine forget
 
    !> x = M^(-1) x with the factored Newton matrix of the last solve (a filter for
@@ -384,6 +393,7 @@ contains
             if (residual_largest > 0.0_dp) then
                if (.not. correction_underflows()) then
                   self%kept(slot)%linear%factored = .false.
+                  self%step_limit = min(self%step_limit, step_limit_fraction*h)
                   call set_code(stat, status_singular_matrix)
                   return
                end if

@@ -61,6 +61,8 @@ module taylorode_schemes_imex_rk21
       procedure :: prepare => imex_prepare
       !> Forget the factored stage matrices kept between steps
       procedure :: restart => imex_restart
+      !> Below a fraction of a step whose Newton solve kept no digit of its residual
+      procedure :: largest_step => imex_largest_step
       procedure :: stability => imex_stability
    end type imex_rk21_type
 
@@ -107,6 +109,13 @@ contains
       if (stat%code == status_ok) call new_matrix(self%stage%jac_g, n, self%structure, stat)
       if (stat%code /= status_ok) self%n = 0
    end subroutine imex_prepare
+
+   !> The longest step its Newton solvers can still resolve (see scheme_type's
+   !> largest_step).
+   pure real(dp) function imex_largest_step(self)
+      class(imex_rk21_type), intent(in) :: self
+      imex_largest_step = self%newton%step_limit
+   end function imex_largest_step
 
    subroutine imex_restart(self)
       class(imex_rk21_type), intent(inout) :: self

@@ -90,6 +90,8 @@ module taylorode_schemes_implicit_taylor
       procedure :: prepare => implicit_taylor_prepare
       !> Forget the factored Newton matrix kept between steps
       procedure :: restart => implicit_taylor_restart
+      !> Below a fraction of a step whose Newton solve kept no digit of its residual
+      procedure :: largest_step => implicit_taylor_largest_step
       procedure :: stability => implicit_taylor_stability
       !> i-t-2: the filtered trapezoidal defect of a step
       procedure :: step_error => implicit_taylor_step_error
@@ -157,6 +159,13 @@ contains
       end associate
       if (stat%code /= status_ok) self%n = 0
    end subroutine implicit_taylor_prepare
+
+   !> The longest step its Newton solvers can still resolve (see scheme_type's
+   !> largest_step).
+   pure real(dp) function implicit_taylor_largest_step(self)
+      class(implicit_taylor_type), intent(in) :: self
+      implicit_taylor_largest_step = minval(self%newton%step_limit)
+   end function implicit_taylor_largest_step
 
    subroutine implicit_taylor_restart(self)
       class(implicit_taylor_type), intent(inout) :: self

@@ -124,6 +124,8 @@ module taylorode_schemes_scheme
       procedure :: newton_fraction
       !> Step-size factor for the retry after a Newton failure (default: the integrator's)
       procedure :: failure_factor
+      !> The longest step the scheme's solves can still resolve (default: no limit)
+      procedure :: largest_step
       !> Step-size factor after an error-test rejection before the first accepted step
       !> (default: none, the controller's)
       procedure :: first_rejection_factor
@@ -353,6 +355,15 @@ contains
       real(dp), intent(in) :: shrink
       failure_factor = shrink
    end function failure_factor
+
+   !> The longest step the scheme can take: after a Newton solve that kept no digit of
+   !> its residual (a stacked matrix once h |lambda| nears 1/epsilon) the steps are held
+   !> below a fraction of that step; the default is no limit (huge).
+   pure real(dp) function largest_step(self)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      largest_step = huge(1.0_dp)
+   end function largest_step
 
    !> Factor h_new / h after the error test rejected an attempt before the first
    !> accepted step of an integration, in place of the controller's (and of the

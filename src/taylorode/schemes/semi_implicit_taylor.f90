@@ -113,6 +113,8 @@ module taylorode_schemes_semi_implicit_taylor
       procedure :: prepare => semi_implicit_prepare
       !> Forget the factored Newton matrix kept between steps
       procedure :: restart => semi_implicit_restart
+      !> Below a fraction of a step whose Newton solve kept no digit of its residual
+      procedure :: largest_step => semi_implicit_largest_step
       procedure :: stability => semi_implicit_stability
       !> si-t-2: the filtered trapezoidal defect of the step
       procedure :: step_error => semi_implicit_step_error
@@ -242,6 +244,13 @@ contains
          if (.not. allocated(matrix) .and. stat%code == status_ok) call new_matrix(matrix, self%n, self%structure, stat)
       end subroutine make_matrix
    end subroutine make_member
+
+   !> The longest step its Newton solvers can still resolve (see scheme_type's
+   !> largest_step).
+   pure real(dp) function semi_implicit_largest_step(self)
+      class(semi_implicit_taylor_type), intent(in) :: self
+      semi_implicit_largest_step = minval(self%newton%step_limit)
+   end function semi_implicit_largest_step
 
    subroutine semi_implicit_restart(self)
       class(semi_implicit_taylor_type), intent(inout) :: self
