@@ -69,9 +69,11 @@ program taylorode_app
       call run_accuracy(request, tables, stat)
    end select
    call write_tables(request, tables, write_stat)
-   call finish_output()
+   ! the run's and the tables' failures first: finish_output ends the program when standard
+   ! output could not be written (a table that failed too went unreported)
    if (stat%code /= status_ok) write (error_unit, '(a)', iostat=io) "taylorode: "//stat%message
    if (write_stat%code /= status_ok) write (error_unit, '(a)', iostat=io) "taylorode: "//write_stat%message
+   call finish_output()
    if (stat%code /= status_ok .or. write_stat%code /= status_ok .or. checks_failed) stop 1, quiet=.true.
 
 end program taylorode_app

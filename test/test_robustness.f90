@@ -281,6 +281,13 @@ contains
       call run_command("( ulimit -f 1; exec "//app_path()//" stability --grid 3 > "//directory//"/report.txt )", run)
       call check(error, run%exit_status == 1 .and. has_line(run%stderr, "standard output: File too large"), &
          "a report beyond the file-size limit: exit status "//format_real(real(run%exit_status, dp), 3))
+      if (allocated(error)) return
+      ! the report and a table beyond it: both failures are reported (the table's was not)
+      call run_command("( ulimit -f 1; exec "//app_path()//" stability --grid 41 --out "//directory// &
+         "/both > "//directory//"/report.txt )", run)
+      call check(error, run%exit_status == 1 .and. has_line(run%stderr, "s1_regions.csv") .and. &
+         has_line(run%stderr, "standard output"), "a report and a table beyond the file-size limit: "// &
+         "only one failure reported")
 
    contains
 
