@@ -383,6 +383,9 @@ contains
       type(counters_type) :: work_before
       type(status_type) :: step_stat
       real(dp) :: t, h, h_next, h_natural, err, nan, trouble_end, t_stop, h_retry
+      ! the longest step the scheme's solves can resolve (scheme%largest_step, which
+      ! changes only after an attempt with a singular matrix)
+      real(dp) :: step_limit
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
       integer :: failures, troubles, singular, outcome, next_output, last_failure
@@ -432,6 +435,7 @@ contains
       singular = 0
       last_failure = status_ok
       trouble_end = t
+      step_limit = scheme%largest_step()
       do while (t < t_target)
          if (attempts >= self%options%max_steps) then
             write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", a)') &
@@ -462,7 +466,8 @@ contains
          err = nan
          call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
          ! below the steps the scheme's solves cannot resolve (none but after such a solve)
-         h_next = min(h_next, scheme%largest_step())
+         if (step_stat%code == status_singular_matrix) step_limit = scheme%largest_step()
+         h_next = min(h_next, step_limit)
 
          ! the dense output at an output time inside the step, and with events in the
          ! middle of the step, must pass its error test too: else the step is taken back
