@@ -16,6 +16,7 @@ module taylorode_linalg_matrix
 
    public :: matrix_structure_type, dense_structure, band_structure, storage_dense, storage_band
    public :: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, stacked_structure
+   public :: stacked_row_scale
 
    !> Every entry stored (n x n)
    integer, parameter :: storage_dense = 1
@@ -49,7 +50,8 @@ module taylorode_linalg_matrix
       procedure(zero_interface), deferred :: set_zero
       !> A = A + alpha B
       procedure(scaled_interface), deferred :: add_scaled
-      !> A = A + alpha I
+      !> A = A + alpha I (alpha_even on the even rows when given: a stacked matrix's
+      !> second block rows, as `stacked_row_scale` scales them)
       procedure(identity_interface), deferred :: add_identity
       !> Block (r, c) of A, of order 2 n_B, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
       procedure(block_interface), deferred :: add_block
@@ -57,6 +59,8 @@ module taylorode_linalg_matrix
       procedure :: set_scaled
       !> Whether every entry of the matrix is finite (neither NaN nor Inf)
       procedure, non_overridable :: all_finite
+      !> The largest magnitude of its entries
+      procedure, non_overridable :: largest_magnitude
    end type matrix_type
 
    !> Dense storage
@@ -72,7 +76,7 @@ module taylorode_linalg_matrix
       procedure :: set_zero => dense_set_zero
       !> A = A + alpha B
       procedure :: add_scaled => dense_add_scaled
-      !> A = A + alpha I
+      !> A = A + alpha I (alpha_even on the even rows when given)
       procedure :: add_identity => dense_add_identity
       !> Block (r, c) of A, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
       procedure :: add_block => dense_add_block
@@ -100,7 +104,7 @@ module taylorode_linalg_matrix
       procedure :: set_zero => band_set_zero
       !> A = A + alpha B
       procedure :: add_scaled => band_add_scaled
-      !> A = A + alpha I
+      !> A = A + alpha I (alpha_even on the even rows when given)
       procedure :: add_identity => band_add_identity
       !> Block (r, c) of A, interleaved: A(2i - 2 + r, 2j - 2 + c) += alpha B(i, j)
       procedure :: add_block => band_add_block
@@ -132,10 +136,11 @@ module taylorode_linalg_matrix
          class(matrix_type), intent(in) :: b
          type(status_type), intent(inout) :: stat
       end subroutine scaled_interface
-      subroutine identity_interface(self, alpha)
+      subroutine identity_interface(self, alpha, alpha_even)
          import :: matrix_type, dp
          class(matrix_type), intent(inout) :: self
          real(dp), intent(in) :: alpha
+         real(dp), intent(in), optional :: alpha_even
       end subroutine identity_interface
       subroutine block_interface(self, alpha, b, row_block, column_block, stat)
          import :: matrix_type, dp, status_type
@@ -282,6 +287,39 @@ contains
       all_finite = .true.
    end function all_finite
 
+   !> The largest |A(i, j)| (of the band only, for band storage).
+   real(dp) function largest_magnitude(self)
+      !> The matrix
+      class(matrix_type), intent(in) :: self
+      integer :: j, first, last
+      largest_magnitude = 0.0_dp
+      select type (self)
+      type is (dense_matrix_type)
+         largest_magnitude = maxval(abs(self%a))
+      type is (band_matrix_type)
+         do j = 1, self%n
+            first = self%diagonal + max(1, j - self%ku) - j
+            last = self%diagonal + min(self%n, j + self%kl) - j
+            largest_magnitude = max(largest_magnitude, maxval(abs(self%ab(first:last, j))))
+         end do
+      end select
+   end function largest_magnitude
+
+   !> The factor of the second block rows (C and I) of a stacked Newton matrix
+   !> [[A, B], [C, I]] whose C is -h J: 1, or 2 once h max|J| passes 1/sqrt(epsilon).
+   !> With A about -h J there, the rows of A and C tie for the pivot; A's row won, and
+   !> the solve recovered x as (r - B y) / A, where B y cancels r but for a relative
+   !> epsilon h |lambda| / 2 (all of it beyond h |lambda| = 2/epsilon: a correction of
+   !> exactly 0). Doubled, C's rows are the pivots and x follows from C x + y = 0 without
+   !> the cancellation. The right-hand side's second half is 0, so the scaling changes
+   !> nothing else; below the threshold (at most half the digits at stake) the matrix is
+   !> as before, to the bit.
+   pure real(dp) function stacked_row_scale(step_jacobian) result(scale)
+      !> h max|J| (over the blocks in C)
+      real(dp), intent(in) :: step_jacobian
+      scale = merge(2.0_dp, 1.0_dp, step_jacobian > 1.0_dp/sqrt(epsilon(1.0_dp)))
+   end function stacked_row_scale
+
    !> No NaN or Inf among n values (a dense matrix's storage, in one loop: its columns are
    !> a few entries long for the small systems, where nested loops cost more to enter)
    pure logical function finite_values(n, values)
@@ -358,10 +396,17 @@ contains
       end select
    end subroutine dense_add_scaled
 
-   subroutine dense_add_identity(self, alpha)
+   subroutine dense_add_identity(self, alpha, alpha_even)
       class(dense_matrix_type), intent(inout) :: self
       real(dp), intent(in) :: alpha
+      real(dp), intent(in), optional :: alpha_even
       integer :: i
+      if (present(alpha_even)) then
+         do i = 1, self%n
+            self%a(i, i) = self%a(i, i) + merge(alpha_even, alpha, mod(i, 2) == 0)
+         end do
+         return
+      end if
       do i = 1, self%n
          self%a(i, i) = self%a(i, i) + alpha
       end do
@@ -562,10 +607,17 @@ contains
       end do
    end subroutine scaled_band_into_band
 
-   subroutine band_add_identity(self, alpha)
+   subroutine band_add_identity(self, alpha, alpha_even)
       class(band_matrix_type), intent(inout) :: self
       real(dp), intent(in) :: alpha
+      real(dp), intent(in), optional :: alpha_even
       integer :: j
+      if (present(alpha_even)) then
+         do j = 1, self%n
+            self%ab(self%diagonal, j) = self%ab(self%diagonal, j) + merge(alpha_even, alpha, mod(j, 2) == 0)
+         end do
+         return
+      end if
       do j = 1, self%n
          self%ab(self%diagonal, j) = self%ab(self%diagonal, j) + alpha
       end do

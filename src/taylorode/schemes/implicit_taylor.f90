@@ -26,7 +26,7 @@ module taylorode_schemes_implicit_taylor
    use taylorode_base_status, only: status_type, status_ok
    use taylorode_base_memory, only: sized
    use taylorode_base_counters, only: counters_type
-   use taylorode_linalg_matrix, only: matrix_type, new_matrix
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix, stacked_row_scale
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac, evaluate_rhs, &
@@ -315,17 +315,19 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
-      real(dp) :: epsilon_f, side, t_probe, size_now, size_start
+      real(dp) :: epsilon_f, side, t_probe, size_now, size_start, row_scale
       logical :: along_start
 
       call evaluate_jac(problem, self%t1, u, self%jac1, counters, stat)
       if (stat%code /= status_ok) return
       if (self%order /= 2) then
          call matrix%add_scaled(-self%h, self%jac1, stat)
+         call matrix%add_identity(1.0_dp)
       else
+         row_scale = stacked_row_scale(self%h*self%jac1%largest_magnitude())
          call matrix%add_block(-self%h, self%jac1, 1, 1, stat)
          call matrix%add_block(0.5_dp*self%h, self%jac1, 1, 2, stat)
-         call matrix%add_block(-self%h, self%jac1, 2, 1, stat)
+         call matrix%add_block(-row_scale*self%h, self%jac1, 2, 1, stat)
          if (self%second_derivatives .and. allocated(self%jac_probe)) then
             if (.not. self%rhs0_known) then
                call evaluate_rhs(problem, self%t1 - self%h, self%u0, self%rhs0, counters)
@@ -357,8 +359,8 @@ contains
             call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
             call matrix%add_block(0.5_dp*self%h*self%h/(side*epsilon_f), self%jac_probe, 1, 1, stat)
          end if
+         call matrix%add_identity(1.0_dp, row_scale)
       end if
-      call matrix%add_identity(1.0_dp)
    end subroutine implicit_taylor_matrix
 
 end module taylorode_schemes_implicit_taylor

@@ -34,7 +34,7 @@ module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_status, only: status_type, set_code, status_ok, status_invalid_argument
    use taylorode_base_memory, only: sized
    use taylorode_base_counters, only: counters_type
-   use taylorode_linalg_matrix, only: matrix_type, new_matrix
+   use taylorode_linalg_matrix, only: matrix_type, new_matrix, stacked_row_scale
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, &
@@ -532,6 +532,7 @@ contains
       class(matrix_type), intent(inout) :: matrix
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
+      real(dp) :: row_scale
 
       if (self%member == si_t_2) then
          ! [[I - h J_g1, h/2 J_g0], [-h (J_f0 + J_g1), I]]: J_f from U0, J_g at the
@@ -553,24 +554,28 @@ contains
          end if
          if (self%member == si_t_2_paper) then
             ! [[I - h J_g1, h/2 J0], [-h J_g1, I]]
+            row_scale = stacked_row_scale(self%h*self%jac_g1%largest_magnitude())
             call matrix%add_block(-self%h, self%jac_g1, 1, 1, stat)
             call matrix%add_block(0.5_dp*self%h, self%jac0, 1, 2, stat)
-            call matrix%add_block(-self%h, self%jac_g1, 2, 1, stat)
+            call matrix%add_block(-row_scale*self%h, self%jac_g1, 2, 1, stat)
          else
             call matrix%add_scaled(-self%h, self%jac_g1, stat)
+            call matrix%add_identity(1.0_dp)
+            return
          end if
       end if
-      call matrix%add_identity(1.0_dp)
+      call matrix%add_identity(1.0_dp, row_scale)
 
    contains
 
       !> The blocks of si-t-2's stacked matrix but the identity, with J_g1 at the iterate
       subroutine add_si_t_2_blocks(jac_g1)
          class(matrix_type), intent(in) :: jac_g1
+         row_scale = stacked_row_scale(self%h*max(self%jac_f0%largest_magnitude(), jac_g1%largest_magnitude()))
          call matrix%add_block(-self%h, jac_g1, 1, 1, stat)
          call matrix%add_block(0.5_dp*self%h, self%jac_g0, 1, 2, stat)
-         call matrix%add_block(-self%h, self%jac_f0, 2, 1, stat)
-         call matrix%add_block(-self%h, jac_g1, 2, 1, stat)
+         call matrix%add_block(-row_scale*self%h, self%jac_f0, 2, 1, stat)
+         call matrix%add_block(-row_scale*self%h, jac_g1, 2, 1, stat)
       end subroutine add_si_t_2_blocks
 
    end subroutine semi_implicit_matrix
