@@ -86,6 +86,10 @@ contains
       type(unittest_type), allocatable, intent(out) :: testsuite(:)
       testsuite = [ &
          new_unittest("contr-outside-the-step-is-nan", test_contr_outside), &
+         new_unittest("contr-extrapolates-as-contr5", test_contr_extrapolates), &
+         new_unittest("solout-writes-the-state", test_solout_writes_state), &
+         new_unittest("empty-interval-as-radau5", test_empty_interval), &
+         new_unittest("singular-attempts-are-not-steps", test_singular_not_steps), &
          new_unittest("settings-checked-as-radau5", test_settings_checked), &
          new_unittest("settings-in-range-accepted", test_settings_accepted), &
          new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
@@ -134,6 +138,112 @@ contains
       if (allocated(error)) return
       call check(error, ieee_is_nan(legacy_interpolate(1, 2.0_dp, cont, 4)), "LRC = 4")
    end subroutine test_contr_outside
+
+   !> TAYLORODE_CONTR beyond [XOLD, X] extrapolates the step's polynomial, as CONTR5 does
+   !> (it gave Y at X before: 0.15 relative at worst here): radau5 on y' = -y at RTOL
+   !> 1e-6, the value half a step past each step's end against exp(-S), within 1e-3
+   !> (1.4e-4 at worst: a cubic extrapolated beyond the points it was fitted to).
+   subroutine test_contr_extrapolates(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(2)
+      integer :: iwork(liwork), ipar(1), idid
+      character(len=:), allocatable :: message
+      work = 0.0_dp
+      iwork = 0
+      x = 0.0_dp
+      y = 1.0_dp
+      h = 1.0e-3_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+      rpar = 0.0_dp
+      call legacy_solve("radau5", 1, plain_decay, plain_decay, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
+         decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, extrapolating, 1, work, lwork, &
+         iwork, liwork, rpar, ipar, idid, message)
+      call check(error, idid, 1, message)
+      if (allocated(error)) return
+      call check(error, rpar(2) > 0.0_dp .and. rpar(1) <= 1.0e-3_dp, "largest relative error half a step past X: "// &
+         format_real(rpar(1)))
+   end subroutine test_contr_extrapolates
+
+   !> RADAU5 hands SOLOUT its Y, and what SOLOUT writes there is the state it goes on
+   !> from (they were ignored: SOLOUT was given a copy). y' = -y from 1 over [0, 2], Y
+   !> tripled at NR = 1 and halved at the first output past 0.55: Y(2) = 1.5 exp(-2), with
+   !> radau5 and i-t-2.
+   subroutine test_solout_writes_state(error)
+      type(error_type), allocatable, intent(out) :: error
+      character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
+      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid, k
+      character(len=:), allocatable :: message
+      do k = 1, size(names)
+         work = 0.0_dp
+         iwork = 0
+         x = 0.0_dp
+         y = 1.0_dp
+         h = 1.0e-3_dp
+         rtol = 1.0e-6_dp
+         atol = 1.0e-6_dp
+         rpar = 0.0_dp
+         call legacy_solve(trim(names(k)), 1, plain_decay, plain_decay, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
+            decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, kicking, 1, work, lwork, iwork, &
+            liwork, rpar, ipar, idid, message)
+         call check(error, idid, 1, trim(names(k))//": "//message)
+         if (allocated(error)) return
+         call check(error, abs(y(1) - 1.5_dp*exp(-2.0_dp)) <= 1.0e-4_dp, trim(names(k))//": Y(2) = "// &
+            format_real(y(1))//", 1.5 exp(-2) = "//format_real(1.5_dp*exp(-2.0_dp)))
+         if (allocated(error)) return
+      end do
+   end subroutine test_solout_writes_state
+
+   !> X = XEND is a step too small for RADAU5: IDID = -3, H = 0, SOLOUT called once
+   !> (at NR = 1), X and Y as given (it was refused with IDID = -1).
+   subroutine test_empty_interval(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(2)
+      integer :: iwork(liwork), ipar(1), idid
+      character(len=:), allocatable :: message
+      work = 0.0_dp
+      iwork = 0
+      x = 1.0_dp
+      y = 1.0_dp
+      h = 1.0e-3_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+      rpar = 0.0_dp
+      call legacy_solve("radau5", 1, plain_decay, plain_decay, .false., x, y, 1.0_dp, h, rtol, atol, 0, &
+         decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, extrapolating, 1, work, lwork, &
+         iwork, liwork, rpar, ipar, idid, message)
+      call check(error, idid, -3, message)
+      if (allocated(error)) return
+      call check(error, h == 0.0_dp .and. x == 1.0_dp .and. y(1) == 1.0_dp .and. nint(rpar(2)) == 0, &
+         "H = "//format_real(h)//", X = "//format_real(x)//", Y = "//format_real(y(1))//", SOLOUT after NR = 1: "// &
+         format_integer(nint(rpar(2))))
+   end subroutine test_empty_interval
+
+   !> RADAU5 counts a step (NSTEP, IWORK(16)) once its matrices are factored: attempts
+   !> with a singular Newton matrix are not steps. y' = -y in two components with a JAC
+   !> of 1e300 everywhere (fac I - J is singular at every step size): IDID = -4 with NSTEP
+   !> = 0 (it was 5).
+   subroutine test_singular_not_steps(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
+      integer :: iwork(liwork), ipar(1), idid
+      character(len=:), allocatable :: message
+      work = 0.0_dp
+      iwork = 0
+      x = 0.0_dp
+      y = 1.0_dp
+      h = 1.0e-6_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+      call legacy_solve("radau5", 2, plain_decay, plain_decay, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
+         huge_jacobian, 0, huge_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, &
+         iwork, liwork, rpar, ipar, idid, message)
+      call check(error, idid, -4, "IDID = "//format_integer(idid)//": "//message)
+      if (allocated(error)) return
+      call check(error, iwork(16) == 0 .and. iwork(17) == 0, "NSTEP = "//format_integer(iwork(16))//", NACCPT = "// &
+         format_integer(iwork(17)))
+   end subroutine test_singular_not_steps
 
    !> Every setting RADAU5 checks, out of its range, is IDID = -1 with a reason in
    !> IWORK(12) and a message, and the state untouched: IWORK(2) < 0 (it ran with the
@@ -1077,6 +1187,47 @@ contains
          end do
       end do
    end subroutine interpolating
+
+   !> y' = -y
+   subroutine plain_decay(n, x, y, f, rpar, ipar)
+      integer :: n
+      real(dp) :: x, y(n), f(n), rpar(*)
+      integer :: ipar(*)
+      f = -y
+   end subroutine plain_decay
+
+   !> A Jacobian of 1e300 everywhere
+   subroutine huge_jacobian(n, x, y, dfy, ldfy, rpar, ipar)
+      integer :: n, ldfy
+      real(dp) :: x, y(n), dfy(ldfy, n), rpar(*)
+      integer :: ipar(*)
+      dfy(1:n, 1:n) = 1.0e300_dp
+   end subroutine huge_jacobian
+
+   !> Y tripled at NR = 1, halved at the first output past 0.55 (rpar(1) = 1 then)
+   subroutine kicking(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      irtrn = 0
+      if (nr == 1) y = 3.0_dp*y
+      if (x >= 0.55_dp .and. rpar(1) == 0.0_dp) then
+         y = 0.5_dp*y
+         rpar(1) = 1.0_dp
+      end if
+   end subroutine kicking
+
+   !> rpar(1) = the largest relative error of TAYLORODE_CONTR half a step past X against
+   !> exp(-S) (y' = -y from y(0) = 1), rpar(2) = the calls after NR = 1
+   subroutine extrapolating(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)
+      integer :: nr, lrc, n, ipar(*), irtrn
+      real(dp) :: xold, x, y(n), cont(lrc), rpar(*)
+      real(dp) :: s
+      irtrn = 0
+      if (nr == 1) return
+      s = x + 0.5_dp*(x - xold)
+      rpar(1) = max(rpar(1), abs(legacy_interpolate(1, s, cont, lrc) - exp(-s))/exp(-s))
+      rpar(2) = rpar(2) + 1.0_dp
+   end subroutine extrapolating
 
    !> A SOLOUT that is never called (IOUT = 0)
    subroutine no_output(nr, xold, x, y, cont, lrc, n, rpar, ipar, irtrn)

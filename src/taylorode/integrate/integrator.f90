@@ -549,6 +549,8 @@ contains
                troubles = troubles + 1
             case default
                call_stats%rejected_newton = call_stats%rejected_newton + 1
+               if (step_stat%code == status_singular_matrix) &
+                  call_stats%rejected_singular = call_stats%rejected_singular + 1
             end select
             call record_attempt(nan, outcome, newton_before, u)
             if (problem%evaluation_fatal()) then
@@ -903,6 +905,7 @@ contains
       total%rejected_error = total%rejected_error + call_stats%rejected_error
       total%rejected_error_start = total%rejected_error_start + call_stats%rejected_error_start
       total%rejected_newton = total%rejected_newton + call_stats%rejected_newton
+      total%rejected_singular = total%rejected_singular + call_stats%rejected_singular
       total%rejected_nonfinite = total%rejected_nonfinite + call_stats%rejected_nonfinite
       total%rejected_evaluation = total%rejected_evaluation + call_stats%rejected_evaluation
       total%rejected_constraint = total%rejected_constraint + call_stats%rejected_constraint

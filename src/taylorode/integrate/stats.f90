@@ -20,6 +20,9 @@ module taylorode_integrate_stats
       integer(i8) :: rejected_error_start = 0
       !> Attempts that failed in Newton (singular matrix, divergence, no convergence)
       integer(i8) :: rejected_newton = 0
+      !> Of these, the ones whose Newton matrix was singular (RADAU5's NSTEP leaves them
+      !> out: it counts a step once its matrices are factored)
+      integer(i8) :: rejected_singular = 0
       !> Attempts that produced NaN or Inf
       integer(i8) :: rejected_nonfinite = 0
       !> Attempts in which the problem rejected an evaluation (reject_evaluation)

@@ -34,7 +34,7 @@ module taylorode_interfaces_legacy
    use taylorode_base_kinds, only: dp, i8
    use taylorode_base_status, only: status_type, status_ok, status_singular_matrix, status_newton_diverged, &
       status_newton_not_converged, status_step_underflow, status_max_steps, status_nonfinite, &
-      status_evaluation_failed, status_out_of_memory
+      status_evaluation_failed, status_out_of_memory, set_status
    use taylorode_base_memory, only: out_of_memory, real_bytes
    use taylorode_linalg_matrix, only: matrix_structure_type, band_structure, storage_band
    use taylorode_problem_ode, only: ode_problem, dense_differences, band_differences, difference_f, difference_g, &
@@ -128,6 +128,8 @@ module taylorode_interfaces_legacy
       real(dp), allocatable :: y_copy(:)
       !> SOLOUT asked to stop
       logical :: stopped = .false.
+      !> SOLOUT wrote Y (RADAU5 goes on from the state SOLOUT leaves)
+      logical :: y_changed = .false.
    contains
       procedure :: observe => legacy_observe
    end type legacy_observer_type
@@ -204,7 +206,7 @@ contains
       type(integration_stats_type) :: stats
       type(status_type) :: stat
       integer :: reason, detail, memory
-      logical :: radau, refused
+      logical :: radau, refused, empty
 
       idid = -1
       if (present(message)) message = ""
@@ -215,6 +217,7 @@ contains
       end if
       iwork(12:13) = 0
       radau = trim(scheme_name) == "radau5"
+      empty = xend == x
       call read_settings(reason, detail)
       if (reason /= reason_none) then
          if (reason == reason_memory) idid = outcome_code(status_out_of_memory)
@@ -279,25 +282,30 @@ contains
             if (memory /= 0) call out_of_memory(stat, "SOLOUT's copy of the step", [observer%max_degree + 2, n], &
                real_bytes)
             if (stat%code == status_ok) call start_solout(observer, x, y, n)
+            ! (SOLOUT is given Y itself in RADAU5: what it writes there is the state)
+            if (stat%code == status_ok) y = observer%y_copy
             if (observer%stopped) then
                idid = 2
                return
             end if
-            if (stat%code == status_ok) call integrator%advance_to(problem, scheme, xend, y, stat, stats, &
-               observer=observer)
-         else
-            call integrator%advance_to(problem, scheme, xend, y, stat, stats)
+         end if
+         if (stat%code == status_ok .and. empty) then
+            ! RADAU5 takes X = XEND for a step too small (IDID = -3, H = 0)
+            call set_status(stat, status_step_underflow, "X = XEND: there is no interval to integrate over")
+         else if (stat%code == status_ok) then
+            call advance_from_solout_changes()
          end if
       end if
       ! (a refusal of the integrator's leaves X and H as given, as RADAU5's refusals do)
       if (.not. refused) then
          x = integrator%total%t_reached
-         h = integrator%h
+         h = merge(0.0_dp, integrator%h, empty)
       end if
       associate (total => integrator%total)
          iwork(14) = int(max(total%work%f_evaluations, total%work%g_evaluations))
          iwork(15) = int(max(total%work%jac_f_evaluations, total%work%jac_g_evaluations))
-         iwork(16) = int(total%accepted_steps + total%rejected_steps())
+         ! RADAU5's NSTEP: the attempts whose matrices were factored
+         iwork(16) = int(total%accepted_steps + total%rejected_steps() - total%rejected_singular)
          iwork(17) = int(total%accepted_steps)
          ! RADAU5's NREJCT: error-test rejections after the first accepted step
          iwork(18) = int(total%rejected_error - total%rejected_error_start)
@@ -313,6 +321,32 @@ contains
 
    contains
 
+      !> advance_to XEND, and on again from each state SOLOUT writes (RADAU5 hands SOLOUT
+      !> its Y; advance_to takes a changed state), within one budget of NMAX attempts.
+      subroutine advance_from_solout_changes()
+         integer(i8) :: budget, used
+         budget = integrator%options%max_steps
+         used = 0
+         do
+            if (iout /= 0) then
+               call integrator%advance_to(problem, scheme, xend, y, stat, stats, observer=observer)
+            else
+               call integrator%advance_to(problem, scheme, xend, y, stat, stats)
+            end if
+            if (stat%code /= status_ok .or. .not. observer%y_changed) exit
+            y = observer%y_copy
+            observer%y_changed = .false.
+            if (observer%stopped .or. integrator%total%t_reached >= xend) exit
+            used = used + stats%accepted_steps + stats%rejected_steps()
+            if (used >= budget) then
+               call set_status(stat, status_max_steps, "the step budget NMAX ran out")
+               exit
+            end if
+            integrator%options%max_steps = budget - used
+         end do
+         integrator%options%max_steps = budget
+      end subroutine advance_from_solout_changes
+
       !> RADAU5's settings, checked as RADAU5 checks them, into the options and the scheme.
       subroutine read_settings(reason, detail)
          integer, intent(out) :: reason, detail
@@ -325,7 +359,7 @@ contains
          reason = reason_size
          if (n < 1) return
          reason = reason_interval
-         if (.not. (ieee_is_finite(x) .and. ieee_is_finite(xend) .and. xend > x)) return
+         if (.not. (ieee_is_finite(x) .and. ieee_is_finite(xend) .and. xend >= x)) return
          ! XEND - X finite, tested by halves (the difference itself would overflow)
          if (.not. (0.5_dp*xend - 0.5_dp*x < 0.5_dp*huge(1.0_dp))) return
          reason = reason_scheme
@@ -448,7 +482,9 @@ contains
          ! WORK(7): the largest step
          reason = reason_largest_step
          hmax = xend - x
-         if (work(7) /= 0.0_dp) hmax = min(abs(work(7)), xend - x)
+         ! (X = XEND takes no step)
+         if (empty) hmax = huge(1.0_dp)
+         if (work(7) /= 0.0_dp) hmax = min(abs(work(7)), hmax)
          if (.not. (hmax > 0.0_dp)) return
          options%h_max = hmax
          ! WORK(8:9): bounds of h_new / h (RADAU5's 0.2 and 8 for radau5, the library's for the others)
@@ -682,7 +718,7 @@ contains
       case (reason_none); text = ""
       case (reason_storage); text = "LWORK and LIWORK must be at least 20"
       case (reason_size); text = "N must be at least 1"
-      case (reason_interval); text = "X and XEND must be finite, XEND > X and XEND - X finite (backward "// &
+      case (reason_interval); text = "X and XEND must be finite, XEND >= X and XEND - X finite (backward "// &
          "integration is not supported: substitute s = -x)"
       case (reason_tolerance); text = "RTOL("//trim(number)//") or ATOL("//trim(number)//") out of range: for "// &
          "radau5 (as RADAU5) ATOL > 0 and RTOL > 10 UROUND, for the other schemes both >= 0 and not both 0, finite"
@@ -767,10 +803,9 @@ contains
       self%y_copy = step%u_end
       irtrn = 0
       call self%solout(nr, x_old, x_new, self%y_copy, self%cont, lrc, n, self%rpar, self%ipar, irtrn)
-      if (irtrn < 0) then
-         self%stopped = .true.
-         stop = .true.
-      end if
+      self%stopped = irtrn < 0
+      self%y_changed = any(self%y_copy /= step%u_end)
+      stop = self%stopped .or. self%y_changed
    end subroutine legacy_observe
 
    !> Component i at s of the step packed in cont (TAYLORODE_CONTR): the step's Newton
@@ -798,7 +833,8 @@ contains
       ! coefficient k of component i at first + k n + i - 1, node k at 4 + k
       first = 5 + (lrc - 4 - n)/(n + 1)
       if (degree > first - 5 .or. first + degree*n + n - 1 > lrc) return
-      theta = min(max((s - cont(1))/cont(2), 0.0_dp), 1.0_dp)
+      ! (beyond [XOLD, X] the polynomial extrapolates, as CONTR5's does)
+      theta = (s - cont(1))/cont(2)
       value = cont(first + degree*n + i - 1)
       do k = degree, 1, -1
          value = cont(first + (k - 1)*n + i - 1) + (theta - cont(4 + k))*value
