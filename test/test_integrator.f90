@@ -127,6 +127,7 @@ contains
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("long-steps-keep-their-digits", test_long_steps_keep_digits), &
          new_unittest("solve-without-a-digit-is-singular", test_solve_without_a_digit_singular), &
+         new_unittest("second-derivatives-at-the-state-scale", test_second_derivative_scale), &
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
          new_unittest("newton-ends-at-components-at-zero", test_newton_at_zero_components), &
@@ -890,6 +891,37 @@ contains
       if (allocated(error)) return
       call check(error, abs(u(1)) <= 1.0e-300_dp, "i-t-1: u(1e30) = "//format_real(u(1)))
    end subroutine test_long_steps_keep_digits
+
+   !> i-t-2's Newton matrix differences J along F over a step e F of sqrt(epsilon) times
+   !> |U|; with |U| < 1 it took 1 instead, and where J changes on the scale of U the
+   !> difference measured J far from U: on u' = -1e4 u^3 (declared autonomous) to t = 1e25,
+   !> with u = 2e-15 there, F''[F] came out 700 times too large and of the wrong sign,
+   !> the Newton matrix a fifth of what it is, and Newton failed every other step: 16,691
+   !> steps and 9,508 failed attempts (to 1e30 the budget of 100,000 ran out). With |U|
+   !> (or h |F| where U = 0): 338 steps, 19 failed attempts.
+   subroutine test_second_derivative_scale(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: tol = 1.0e-6_dp, t_end = 1.0e25_dp
+      type(cubic_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+
+      problem%autonomous = .true.
+      call new_scheme("i-t-2", scheme, stat)
+      options = integrator_options_type(rtol=tol, atol=tol)
+      u = [1.0_dp]
+      call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, abs(u(1) - 1.0_dp/sqrt(1.0_dp + 2.0e4_dp*t_end)) <= tol, "u(1e25) = "//format_real(u(1)))
+      if (allocated(error)) return
+      call check(error, stats%accepted_steps <= 1000_i8 .and. stats%rejected_newton <= 100_i8, &
+         format_integer(int(stats%accepted_steps))//" steps, "//format_integer(int(stats%rejected_newton))// &
+         " failed in Newton")
+   end subroutine test_second_derivative_scale
 
    !> A solve that keeps no digit is a singular matrix: the stacked matrix of
    !> cancelling_system solves for a correction of exactly 0 although the residual is 1;

@@ -315,7 +315,7 @@ contains
       type(counters_type), intent(inout) :: counters
       type(status_type), intent(inout) :: stat
 
-      real(dp) :: epsilon_f, side, t_probe, size_now, size_start, row_scale
+      real(dp) :: epsilon_f, side, t_probe, size_now, size_start, size_along, row_scale
       logical :: along_start
 
       call evaluate_jac(problem, self%t1, u, self%jac1, counters, stat)
@@ -336,12 +336,15 @@ contains
             size_now = norm2(self%rhs1)
             size_start = norm2(self%rhs0)
             along_start = size_now > off_manifold_ratio*size_start
-            ! F''(U)[F] = (J(t1 + e, U + e F) - J(t1, U)) / e, e (1, F) of the size of
-            ! sqrt(eps) |U| (e < 0 and t1 + e when the problem depends on t)
+            ! F''(U)[F] = (J(U + e F) - J(U)) / e, e F of the size of sqrt(eps) max(|U|,
+            ! h |F|): relative to U, since J may change on the scale of U (a step of
+            ! sqrt(eps) where |U| << 1 measured J far from U: u' = -u^3 at u = 1e-11 had
+            ! F''[F] 700 times too large); for a problem in t, along (1, F) in (t, U), e < 0
+            ! and t1 + e, e (1, F) of the size of sqrt(eps) max(|U|, 1)
             if (problem%autonomous) then
                side = 1.0_dp
-               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), 1.0_dp)/max(merge(size_start, size_now, along_start), &
-                  tiny(1.0_dp))
+               size_along = merge(size_start, size_now, along_start)
+               epsilon_f = sqrt(epsilon(1.0_dp))*max(norm2(u), self%h*size_along)/max(size_along, tiny(1.0_dp))
                t_probe = self%t1
             else
                side = -1.0_dp
@@ -349,15 +352,18 @@ contains
                   1.0_dp)
                t_probe = self%t1 - epsilon_f
             end if
-            if (along_start) then
-               self%probe = u + side*epsilon_f*self%rhs0
-            else
-               self%probe = u + side*epsilon_f*self%rhs1
+            ! (e = 0: U = 0 and F = 0, along which J does not change)
+            if (epsilon_f > 0.0_dp) then
+               if (along_start) then
+                  self%probe = u + side*epsilon_f*self%rhs0
+               else
+                  self%probe = u + side*epsilon_f*self%rhs1
+               end if
+               call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters, stat)
+               if (stat%code /= status_ok) return
+               call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
+               call matrix%add_block(0.5_dp*self%h*self%h/(side*epsilon_f), self%jac_probe, 1, 1, stat)
             end if
-            call evaluate_jac(problem, t_probe, self%probe, self%jac_probe, counters, stat)
-            if (stat%code /= status_ok) return
-            call self%jac_probe%add_scaled(-1.0_dp, self%jac1, stat)
-            call matrix%add_block(0.5_dp*self%h*self%h/(side*epsilon_f), self%jac_probe, 1, 1, stat)
          end if
          call matrix%add_identity(1.0_dp, row_scale)
       end if
