@@ -21,9 +21,9 @@ module taylorode_integrate_stepper
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite, &
       status_evaluation_failed
    use taylorode_base_memory, only: sized
-   use taylorode_problem_ode, only: ode_problem
+   use taylorode_problem_ode, only: ode_problem, difference_f
    use taylorode_newton_solver, only: newton_settings_type
-   use taylorode_schemes_scheme, only: scheme_type
+   use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_rhs
    use taylorode_integrate_options, only: integrator_options_type, norm_max, advance_scheme, advance_high, &
       advance_low, estimate_auto, estimate_embedded, estimate_doubling, estimate_defect
    use taylorode_integrate_controller, only: controller_factor, controller_auto, controller_i, &
@@ -69,6 +69,11 @@ module taylorode_integrate_stepper
    !> tolerances: on a spurious root of the step's equation it is of the size of the
    !> step's change, where the half steps may agree on it
    real(dp), parameter :: defect_limit = 4.0_dp
+   !> For a scheme that evaluates a part P of F at a step's start only, in a problem that
+   !> depends on t: h |P(t + h) - 2 P(t + h/2) + P(t)| at the new state must stay within
+   !> this many tolerances (h^3/4 |P_tt| where P is smooth, below the step's own error;
+   !> h times the jump where P switches inside the step)
+   real(dp), parameter :: time_check_limit = 4.0_dp
 
    !> Work arrays and controller memory of the step attempts of one integration (the
    !> work arrays a run does not use, by its scheme, estimate and options, stay
@@ -132,6 +137,9 @@ module taylorode_integrate_stepper
       real(dp), allocatable :: correction(:)
       !> The scheme's filtered trapezoidal defect of the step (schemes that check it)
       real(dp), allocatable :: defect(:)
+      !> The second difference in t of the part of F the scheme evaluates at a step's
+      !> start only, and one of its values (schemes with such a part)
+      real(dp), allocatable :: time_difference(:), time_value(:)
       !> The controller's memory before the last accepted attempt (for undo_acceptance)
       real(dp) :: undo_err_previous = 1.0_dp, undo_err_before = 1.0_dp, undo_h_previous = 0.0_dp
    contains
@@ -203,6 +211,8 @@ contains
       call sized(self%correction, merge(n, 0, scheme%amplifies_errors), what, stat)
       self%uncorrected = 0.0_dp
       call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling), what, stat)
+      call sized(self%time_difference, merge(n, 0, scheme%start_only_part /= 0), what, stat)
+      call sized(self%time_value, merge(n, 0, scheme%start_only_part /= 0), what, stat)
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling), what, stat)
       call sized(self%u_whole, merge(n, 0, self%estimate == estimate_doubling), what, stat)
@@ -478,6 +488,7 @@ contains
          end if
       end if
       if (allocated(self%defect)) err = max(err, self%weighted_norm(problem, options, self%defect)/defect_limit)
+      if (scheme%start_only_part /= 0 .and. .not. problem%autonomous) err = max(err, time_variation())
       if (scheme%amplifies_errors) then
          ! M^(-1) P delta, which the next step's solve leaves of P delta, only when P
          ! delta itself is too large (a solve saved at most steps)
@@ -531,6 +542,40 @@ contains
       end if
 
    contains
+
+      !> h |P(t + h) - 2 P(t + h/2) + P(t)|_w / time_check_limit at the new state, P the part
+      !> of F the scheme evaluates at the step's start only: a P that switches later in
+      !> the step leaves the scheme's estimate untouched (its samples are at the start,
+      !> and step doubling's at the midpoint too), this sees it. 0 where an evaluation
+      !> fails (the step's own outcome stands).
+      real(dp) function time_variation()
+         real(dp) :: failed
+         call evaluate_part(t + h, self%time_difference)
+         call evaluate_part(t + 0.5_dp*h, self%time_value)
+         self%time_difference = self%time_difference - 2.0_dp*self%time_value
+         call evaluate_part(t, self%time_value)
+         self%time_difference = h*(self%time_difference + self%time_value)
+         ! (what the step's implicit part makes of it: by about h |lambda| less in the
+         ! stiff directions of si-t-1 and si-t-2-paper)
+         call scheme%damp_by_step_matrix(self%time_difference)
+         failed = merge(1.0_dp, 0.0_dp, problem%evaluation_rejected() .or. .not. all(ieee_is_finite(self%time_difference)))
+         call problem%clear_rejection()
+         time_variation = 0.0_dp
+         ! (every process agrees, as the norm is collective)
+         if (reduced_max(problem, failed) > 0.0_dp) return
+         time_variation = self%weighted_norm(problem, options, self%time_difference)/time_check_limit
+      end function time_variation
+
+      !> P at (at, u_new) into value, counted as the scheme's evaluations
+      subroutine evaluate_part(at, value)
+         real(dp), intent(in) :: at
+         real(dp), intent(out) :: value(:)
+         if (scheme%start_only_part == difference_f) then
+            call evaluate_f(problem, at, self%u_new, value, scheme%counters)
+         else
+            call evaluate_rhs(problem, at, self%u_new, value, scheme%counters)
+         end if
+      end subroutine evaluate_part
 
       !> Components declared nonnegative that came out below 0: set to 0 when their
       !> negative parts are within projection_limit in the error norm, else the attempt

@@ -10,7 +10,7 @@ module taylorode_schemes_explicit_taylor
    use taylorode_base_status, only: status_type, set_code, status_ok, status_nonfinite
    use taylorode_base_memory, only: sized
    use taylorode_linalg_matrix, only: matrix_type, new_matrix
-   use taylorode_problem_ode, only: ode_problem
+   use taylorode_problem_ode, only: ode_problem, difference_rhs
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, evaluate_f, evaluate_g, evaluate_jac_f, evaluate_jac_g, &
       evaluate_time_derivative, of_rhs
@@ -49,6 +49,7 @@ contains
       self%embedded_order = 3 - order
       self%nonlinear_order = order
       self%implicit = .false.
+      self%start_only_part = difference_rhs
       self%newton_matrices = ""
       if (order == 1) then
          self%name = "ex-t-1"

@@ -88,6 +88,13 @@ module taylorode_schemes_scheme
       !> manifold) is of the size of the step's change, where the half steps may agree
       !> on it (i-t-2)
       logical :: checks_defect = .false.
+      !> The part of F the scheme evaluates at a step's start only (difference_rhs: F, the
+      !> explicit schemes; difference_f: f), 0 for none: in a problem that depends on t
+      !> it cannot see that part change later in the step, and the stepper differences it
+      !> in t over the step (a forcing switched on in a step's second half went unnoticed:
+      !> 2.6e5 tolerances off with status ok); the difference goes through
+      !> `damp_by_step_matrix`, as the step's implicit part damps what the change does
+      integer :: start_only_part = 0
       !> Whether an error of the state a step starts from reaches the new state amplified
       !> beyond what the stability function says (si-t-2: its h^2/2 J_f0 F0 evaluates the
       !> stiff g at the start explicitly); `propagated_error` says by how much
@@ -126,6 +133,8 @@ module taylorode_schemes_scheme
       procedure :: failure_factor
       !> The longest step the scheme's solves can still resolve (default: no limit)
       procedure :: largest_step
+      !> v = M^(-1) v with the Newton matrix of the scheme's last solve (default: v as it is)
+      procedure :: damp_by_step_matrix
       !> Step-size factor after an error-test rejection before the first accepted step
       !> (default: none, the controller's)
       procedure :: first_rejection_factor
@@ -364,6 +373,17 @@ contains
       class(scheme_type), intent(in) :: self
       largest_step = huge(1.0_dp)
    end function largest_step
+
+   !> v = M^(-1) v, M the Newton matrix of the scheme's last solve: what the implicit
+   !> part of its step makes of a perturbation of the step's equation (the stepper's
+   !> check of a part of F evaluated at the start only). The default, for schemes that
+   !> solve nothing, leaves v as it is.
+   subroutine damp_by_step_matrix(self, v)
+      !> The scheme
+      class(scheme_type), intent(inout) :: self
+      !> Vector on entry, M^(-1) v on exit
+      real(dp), contiguous, intent(inout) :: v(:)
+   end subroutine damp_by_step_matrix
 
    !> Factor h_new / h after the error test rejected an attempt before the first
    !> accepted step of an integration, in place of the controller's (and of the

@@ -35,7 +35,7 @@ module taylorode_schemes_semi_implicit_taylor
    use taylorode_base_memory, only: sized
    use taylorode_base_counters, only: counters_type
    use taylorode_linalg_matrix, only: matrix_type, new_matrix, stacked_row_scale
-   use taylorode_problem_ode, only: ode_problem
+   use taylorode_problem_ode, only: ode_problem, difference_f
    use taylorode_newton_solver, only: newton_settings_type, newton_solver_type, nonlinear_system_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_f, evaluate_g, evaluate_jac_f, &
       evaluate_jac_g, evaluate_time_derivative, of_f, of_g
@@ -115,6 +115,8 @@ module taylorode_schemes_semi_implicit_taylor
       procedure :: restart => semi_implicit_restart
       !> Below a fraction of a step whose Newton solve kept no digit of its residual
       procedure :: largest_step => semi_implicit_largest_step
+      !> si-t-1, si-t-2-paper: M^(-1) v with the member's last Newton matrix
+      procedure :: damp_by_step_matrix => semi_implicit_damp
       procedure :: stability => semi_implicit_stability
       !> si-t-2: the filtered trapezoidal defect of the step
       procedure :: step_error => semi_implicit_step_error
@@ -141,6 +143,7 @@ contains
          self%partner = si_t_2
          self%embedded_order = 2
          self%update = "U1 = U0 + h (f0 + g(U1))"
+         self%start_only_part = difference_f
          self%newton_matrices = "I - h J_g(U1)"
       case (si_t_2_paper)
          self%name = "si-t-2-paper"
@@ -149,6 +152,7 @@ contains
          self%partner = si_t_1
          self%embedded_order = 1
          self%update = "U1 = U0 + h (f0 + g(U1)) + h^2/2 J0 (f0 - g(U1))"
+         self%start_only_part = difference_f
          self%newton_matrices = "I - h J_g(U1) + h^2/2 J0 J_g(U1)"
       case default
          self%member = si_t_2
@@ -251,6 +255,14 @@ contains
       class(semi_implicit_taylor_type), intent(in) :: self
       semi_implicit_largest_step = minval(self%newton%step_limit)
    end function semi_implicit_largest_step
+
+   subroutine semi_implicit_damp(self, v)
+      class(semi_implicit_taylor_type), intent(inout) :: self
+      real(dp), contiguous, intent(inout) :: v(:)
+      type(status_type) :: stat
+      ! (without factors, as after a failed solve, v stays as it is)
+      call self%newton(self%member)%apply_inverse(v, self%counters, stat)
+   end subroutine semi_implicit_damp
 
    subroutine semi_implicit_restart(self)
       class(semi_implicit_taylor_type), intent(inout) :: self
