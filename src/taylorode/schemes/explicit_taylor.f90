@@ -31,6 +31,8 @@ module taylorode_schemes_explicit_taylor
       !> Jacobians at U0
       class(matrix_type), allocatable :: jac_f0, jac_g0
    contains
+      !> F at the start of the last step
+      procedure :: start_part => explicit_taylor_start_part
       !> One step of ex-t-1 or ex-t-2 and, when asked, the embedded difference
       procedure :: advance => explicit_taylor_advance
       !> Work arrays and Jacobian storage for the problem's structure and n unknowns
@@ -59,6 +61,14 @@ contains
          self%update = "U1 = U0 + h F0 + h^2/2 J0 F0"
       end if
    end function new_explicit_taylor
+
+   subroutine explicit_taylor_start_part(self, value, kept)
+      class(explicit_taylor_type), intent(in) :: self
+      real(dp), intent(inout) :: value(:)
+      logical, intent(out) :: kept
+      kept = allocated(self%rhs0)
+      if (kept) value = self%rhs0
+   end subroutine explicit_taylor_start_part
 
    !> R = 1 + s (ex-t-1) or 1 + s + s^2/2 (ex-t-2), s = z + w.
    pure function explicit_taylor_stability(self, z, w) result(r)

@@ -135,6 +135,8 @@ module taylorode_schemes_scheme
       procedure :: largest_step
       !> v = M^(-1) v with the Newton matrix of the scheme's last solve (default: v as it is)
       procedure :: damp_by_step_matrix
+      !> The part start_only_part of F at the start of the scheme's last step, if it keeps it
+      procedure :: start_part
       !> Step-size factor after an error-test rejection before the first accepted step
       !> (default: none, the controller's)
       procedure :: first_rejection_factor
@@ -384,6 +386,18 @@ contains
       !> Vector on entry, M^(-1) v on exit
       real(dp), contiguous, intent(inout) :: v(:)
    end subroutine damp_by_step_matrix
+
+   !> value = the part `start_only_part` of F at the start of the scheme's last step, when
+   !> the scheme keeps it (kept); the default keeps none.
+   subroutine start_part(self, value, kept)
+      !> The scheme
+      class(scheme_type), intent(in) :: self
+      !> The part at the start of the last step (when kept)
+      real(dp), intent(inout) :: value(:)
+      !> Whether the scheme keeps it
+      logical, intent(out) :: kept
+      kept = .false.
+   end subroutine start_part
 
    !> Factor h_new / h after the error test rejected an attempt before the first
    !> accepted step of an integration, in place of the controller's (and of the

@@ -117,6 +117,8 @@ module taylorode_schemes_semi_implicit_taylor
       procedure :: largest_step => semi_implicit_largest_step
       !> si-t-1, si-t-2-paper: M^(-1) v with the member's last Newton matrix
       procedure :: damp_by_step_matrix => semi_implicit_damp
+      !> f at the start of the last step
+      procedure :: start_part => semi_implicit_start_part
       procedure :: stability => semi_implicit_stability
       !> si-t-2: the filtered trapezoidal defect of the step
       procedure :: step_error => semi_implicit_step_error
@@ -263,6 +265,14 @@ contains
       ! (without factors, as after a failed solve, v stays as it is)
       call self%newton(self%member)%apply_inverse(v, self%counters, stat)
    end subroutine semi_implicit_damp
+
+   subroutine semi_implicit_start_part(self, value, kept)
+      class(semi_implicit_taylor_type), intent(in) :: self
+      real(dp), intent(inout) :: value(:)
+      logical, intent(out) :: kept
+      kept = self%known_f0
+      if (kept) value = self%f0
+   end subroutine semi_implicit_start_part
 
    subroutine semi_implicit_restart(self)
       class(semi_implicit_taylor_type), intent(inout) :: self
