@@ -418,7 +418,6 @@ contains
       integer :: i
       logical :: refined, delta_propagated, timed, along_steps
 
-
       h_next = h
       delta_propagated = .false.
       ! the time check (see time_variation), along the steps' states where step doubling
