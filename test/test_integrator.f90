@@ -11,7 +11,8 @@ module test_integrator
       integrator_options_type, integration_stats_type, paper_options, controller_pi, controller_pid, &
       norm_rms, advance_low, step_history_type, write_history_csv, estimate_embedded, estimate_doubling, estimate_defect, &
       attempt_accepted, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
-      status_max_steps, status_step_underflow, status_newton_not_converged, status_singular_matrix
+      status_max_steps, status_step_underflow, status_newton_not_converged, status_singular_matrix, &
+      step_observer_type, accepted_step_type
    use taylorode_newton_solver, only: newton_solver_type, nonlinear_system_type, newton_settings_type
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, dense_structure
    use taylorode_base_counters, only: counters_type
@@ -96,6 +97,23 @@ module test_integrator
       procedure :: f => forced_decay_f
    end type forced_decay_problem
 
+   !> u1' = lambda (u1 - 1 - u2/2), u2' = -u2 (lambda = -1e4, all in g): a stiff relaxation
+   !> onto u1 = 1 + c exp(-t), c = (lambda/2)/(lambda + 1)
+   type, extends(stiff_only_problem) :: relaxation_problem
+      real(dp) :: lambda = -1.0e4_dp
+   contains
+      procedure :: g => relaxation_g
+      procedure :: jac_g => relaxation_jac_g
+   end type relaxation_problem
+
+   !> The largest error of u1 at the accepted steps' ends against relaxation_problem's
+   !> slow solution, in tolerances
+   type, extends(step_observer_type) :: relaxation_observer
+      real(dp) :: tol = 1.0e-4_dp, worst = 0.0_dp, c = 0.0_dp
+   contains
+      procedure :: observe => observe_relaxation
+   end type relaxation_observer
+
    !> u' = -u + H(t - 1): the decay in g, a forcing switched on at t = 1 in f
    type, extends(linear_decay_problem) :: switched_forcing_problem
    contains
@@ -135,6 +153,8 @@ contains
          new_unittest("solve-without-a-digit-is-singular", test_solve_without_a_digit_singular), &
          new_unittest("second-derivatives-at-the-state-scale", test_second_derivative_scale), &
          new_unittest("forcing-switched-on-late-in-a-step", test_switched_forcing), &
+         new_unittest("explicit-steps-stay-stable", test_explicit_stability), &
+         new_unittest("si-t-2-long-steps-under-a-stiff-forcing", test_si_t_2_stiff_forcing), &
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
          new_unittest("newton-ends-at-components-at-zero", test_newton_at_zero_components), &
@@ -962,6 +982,64 @@ contains
       end do
    end subroutine test_switched_forcing
 
+   !> ex-t-2 on a stiff relaxation (relaxation_problem, declared autonomous) from its slow
+   !> solution, rtol = atol = 1e-4, to t = 5: step doubling's estimate vanishes at h lambda
+   !> = -8, where R(z) = 1 + z + z^2/2 = R(z/2)^2 = 25, and the controller (growth 5,
+   !> shrink 0.2) kept coming back to it: status ok with step ends 773 tolerances off. F's
+   !> second difference along the step (the stepper's check for explicit schemes) sees the
+   !> amplified mode: within 10 tolerances (1.9).
+   subroutine test_explicit_stability(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(relaxation_problem) :: problem
+      type(relaxation_observer) :: observer
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(2)
+
+      problem%autonomous = .true.
+      observer%c = 0.5_dp*problem%lambda/(problem%lambda + 1.0_dp)
+      call new_scheme("ex-t-2", scheme, stat)
+      options = integrator_options_type(rtol=observer%tol, atol=observer%tol)
+      u = [1.0_dp + observer%c, 1.0_dp]
+      call integrate(problem, scheme, 0.0_dp, 5.0_dp, u, options, stats, stat, observer=observer)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, observer%worst <= 10.0_dp, "a step end "//format_real(observer%worst)//" tolerances off")
+   end subroutine test_explicit_stability
+
+   !> si-t-2 on y' = -1e4 (y - cos t) - sin t, the decay in g and the forcing (1e4 cos t -
+   !> sin t) in f, y(0) = 1, to t = 10 at rtol = atol = 1e-7 and 1e-8: its estimate, filtered
+   !> by the step's matrix, let the steps grow to the whole interval's length (9 steps) and
+   !> y(10) came back 1e3 tolerances off with status ok. f's second difference in t over the
+   !> step, through the same matrix, holds them: within 10 tolerances.
+   subroutine test_si_t_2_stiff_forcing(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: tols(2) = [1.0e-7_dp, 1.0e-8_dp]
+      type(forced_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), off
+      integer :: k
+
+      problem%rate = 1.0e4_dp
+      do k = 1, size(tols)
+         call new_scheme("si-t-2", scheme, stat)
+         options = integrator_options_type(rtol=tols(k), atol=tols(k))
+         u = [1.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat)
+         call check(error, stat%code, status_ok, stat_message(stat))
+         if (allocated(error)) return
+         off = abs(u(1) - cos(10.0_dp))/(tols(k) + tols(k)*abs(cos(10.0_dp)))
+         call check(error, off <= 10.0_dp, "tol "//format_real(tols(k))//": y(10) "//format_real(off)// &
+            " tolerances off in "//format_integer(int(stats%accepted_steps))//" steps")
+         if (allocated(error)) return
+      end do
+   end subroutine test_si_t_2_stiff_forcing
+
    !> A solve that keeps no digit is a singular matrix: the stacked matrix of
    !> cancelling_system solves for a correction of exactly 0 although the residual is 1;
    !> taking that for convergence returned the starting guess as the solution. Newton
@@ -1348,6 +1426,29 @@ contains
       real(dp), intent(out) :: jac(:, :)
       jac = 2.0_dp*u(1)
    end subroutine blow_up_jac_g
+
+   subroutine relaxation_g(self, t, u, dudt)
+      class(relaxation_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: dudt(:)
+      dudt = [self%lambda*(u(1) - 1.0_dp - 0.5_dp*u(2)), -u(2)]
+   end subroutine relaxation_g
+
+   subroutine relaxation_jac_g(self, t, u, jac)
+      class(relaxation_problem), intent(inout) :: self
+      real(dp), intent(in) :: t, u(:)
+      real(dp), intent(out) :: jac(:, :)
+      jac = reshape([self%lambda, 0.0_dp, -0.5_dp*self%lambda, -1.0_dp], [2, 2])
+   end subroutine relaxation_jac_g
+
+   subroutine observe_relaxation(self, step, stop)
+      class(relaxation_observer), intent(inout) :: self
+      type(accepted_step_type), intent(in) :: step
+      logical, intent(inout) :: stop
+      real(dp) :: slow
+      slow = 1.0_dp + self%c*exp(-step%t_end)
+      self%worst = max(self%worst, abs(step%u_end(1) - slow)/(self%tol + self%tol*slow))
+   end subroutine observe_relaxation
 
    subroutine switched_forcing_f(self, t, u, dudt)
       class(switched_forcing_problem), intent(inout) :: self

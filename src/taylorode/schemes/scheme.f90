@@ -89,8 +89,9 @@ module taylorode_schemes_scheme
       !> on it (i-t-2)
       logical :: checks_defect = .false.
       !> The part of F the scheme evaluates at a step's start only (difference_rhs: F, the
-      !> explicit schemes; difference_f: f), 0 for none: in a problem that depends on t
-      !> it cannot see that part change later in the step, and the stepper differences it
+      !> explicit schemes; difference_f: f, the semi-implicit ones, si-t-2 at the end only
+      !> through its filtered second-order term), 0 for none: in a problem that depends on
+      !> t it cannot see that part change later in the step, and the stepper differences it
       !> in t over the step (a forcing switched on in a step's second half went unnoticed:
       !> 2.6e5 tolerances off with status ok); the difference goes through
       !> `damp_by_step_matrix`, as the step's implicit part damps what the change does
