@@ -139,8 +139,9 @@ module taylorode_integrate_stepper
       !> The scheme's filtered trapezoidal defect of the step (schemes that check it)
       real(dp), allocatable :: defect(:)
       !> The second difference in t of the part of F the scheme evaluates at a step's
-      !> start only, and one of its values (schemes with such a part)
-      real(dp), allocatable :: time_difference(:), time_value(:)
+      !> start only, one of its values and the state it is taken at (schemes with such a
+      !> part)
+      real(dp), allocatable :: time_difference(:), time_value(:), time_state(:)
       !> The controller's memory before the last accepted attempt (for undo_acceptance)
       real(dp) :: undo_err_previous = 1.0_dp, undo_err_before = 1.0_dp, undo_h_previous = 0.0_dp
    contains
@@ -214,6 +215,7 @@ contains
       call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling), what, stat)
       call sized(self%time_difference, merge(n, 0, scheme%start_only_part /= 0), what, stat)
       call sized(self%time_value, merge(n, 0, scheme%start_only_part /= 0), what, stat)
+      call sized(self%time_state, merge(n, 0, scheme%start_only_part /= 0), what, stat)
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling), what, stat)
       call sized(self%u_whole, merge(n, 0, self%estimate == estimate_doubling), what, stat)
@@ -414,9 +416,9 @@ contains
       real(dp), intent(out) :: h_next
       !> Why a failed attempt failed (its code)
       type(status_type), intent(inout) :: step_stat
-      real(dp) :: factor, hold_low, hold_high, propagation, first_factor
-      integer :: i
-      logical :: refined, delta_propagated, timed, along_steps
+      real(dp) :: factor, hold_low, hold_high, propagation, first_factor, at
+      integer :: i, known_points
+      logical :: refined, delta_propagated, timed, kept
 
       h_next = h
       delta_propagated = .false.
@@ -427,7 +429,7 @@ contains
       ! = R(z/2)^2 = 25: status ok with states 1e33 tolerances off between the ends)
       timed = scheme%start_only_part /= 0 .and. (.not. problem%autonomous .or. &
          (.not. scheme%implicit .and. self%estimate == estimate_doubling))
-      along_steps = .false.
+      known_points = 0
       call set_code(step_stat, status_ok)
       ! scalar tolerances in one pass here, not through set_weights: with the general
       ! weights inlined into it, its entry cost 1-2 % of an attempt on a few unknowns
@@ -447,7 +449,9 @@ contains
       else if (self%estimate == estimate_defect) then
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
          call run_scheme(scheme, self%newton, t, h, u, self%u_new)
+         if (outcome == attempt_accepted .and. timed) call take_start_part(t, self%time_value)
          if (outcome == attempt_accepted) call estimate_step_error()
+         if (outcome == attempt_accepted .and. known_points == 1) call difference_along_chord()
          if (outcome == attempt_accepted .and. options%local_extrapolation) call extrapolate_step()
       else
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
@@ -553,21 +557,26 @@ contains
    contains
 
       !> h |P(t + h) - 2 P(t + h/2) + P(t)|_w / time_check_limit, P the part of F the
-      !> scheme evaluates at the step's start only, along the step (at u, u_half, u_new:
-      !> step doubling, the first two from the scheme, one evaluation) or at the new state
-      !> (three): a P that switches later in the step leaves the scheme's estimate
+      !> scheme evaluates at the step's start only, along the step (step doubling: at u,
+      !> u_half, u_new, the first two from the scheme, one evaluation; si-t-2's estimate:
+      !> at u, (u + u1)/2, u1, the ends from the scheme, one evaluation) or at the new
+      !> state (three): a P that switches later in the step leaves the scheme's estimate
       !> untouched (its samples are at the start, and step doubling's at the midpoint
       !> too), this sees it. 0 where an evaluation fails (the step's own outcome stands).
       real(dp) function time_variation()
          real(dp) :: failed
-         if (along_steps) then
-            call evaluate_part(t + h, self%time_value)
-         else
-            call evaluate_part(t + h, self%time_difference)
-            call evaluate_part(t + 0.5_dp*h, self%time_value)
+         select case (known_points)
+         case (3)
+            ! (time_difference holds the whole second difference)
+            self%time_value = 0.0_dp
+         case (2)
+            call evaluate_part(t + h, self%u_new, self%time_value)
+         case default
+            call evaluate_part(t + h, self%u_new, self%time_difference)
+            call evaluate_part(t + 0.5_dp*h, self%u_new, self%time_value)
             self%time_difference = self%time_difference - 2.0_dp*self%time_value
-            call evaluate_part(t, self%time_value)
-         end if
+            call evaluate_part(t, self%u_new, self%time_value)
+         end select
          self%time_difference = h*(self%time_difference + self%time_value)
          ! (what the step's implicit part makes of it: by about h |lambda| less in the
          ! stiff directions of si-t-1 and si-t-2-paper)
@@ -580,16 +589,42 @@ contains
          time_variation = self%weighted_norm(problem, options, self%time_difference)/time_check_limit
       end function time_variation
 
-      !> P at (at, u_new) into value, counted as the scheme's evaluations
-      subroutine evaluate_part(at, value)
+      !> P at (at, state) into value, counted as the scheme's evaluations
+      subroutine evaluate_part(at, state, value)
          real(dp), intent(in) :: at
+         real(dp), intent(in) :: state(:)
          real(dp), intent(out) :: value(:)
          if (scheme%start_only_part == difference_f) then
-            call evaluate_f(problem, at, self%u_new, value, scheme%counters)
+            call evaluate_f(problem, at, state, value, scheme%counters)
          else
-            call evaluate_rhs(problem, at, self%u_new, value, scheme%counters)
+            call evaluate_rhs(problem, at, state, value, scheme%counters)
          end if
       end subroutine evaluate_part
+
+      !> The scheme's P at time `expected` into value (known_points + 1), else known_points
+      !> back to 0 (the three evaluations at the new state then)
+      subroutine take_start_part(expected, value)
+         real(dp), intent(in) :: expected
+         real(dp), intent(inout) :: value(:)
+         call scheme%start_part(value, at, kept)
+         if (kept .and. at == expected) then
+            known_points = known_points + 1
+         else
+            known_points = 0
+         end if
+      end subroutine take_start_part
+
+      !> After si-t-2's estimate, which evaluates f at the step's end: P(t) - 2 P(t + h/2,
+      !> (u + u1)/2) + P(t + h, u1) into time_difference (one evaluation)
+      subroutine difference_along_chord()
+         call take_start_part(t + h, self%time_difference)
+         if (known_points /= 2) return
+         self%time_state = 0.5_dp*(u + self%u_new)
+         self%time_difference = self%time_difference + self%time_value
+         call evaluate_part(t + 0.5_dp*h, self%time_state, self%time_value)
+         self%time_difference = self%time_difference - 2.0_dp*self%time_value
+         known_points = 3
+      end subroutine difference_along_chord
 
       !> Components declared nonnegative that came out below 0: set to 0 when their
       !> negative parts are within projection_limit in the error norm, else the attempt
@@ -636,17 +671,17 @@ contains
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
          call run_scheme(scheme, self%newton_whole, t, h, u, self%u_whole)
          if (outcome /= attempt_accepted) return
-         if (timed) call scheme%start_part(self%time_value, along_steps)
+         if (timed) call take_start_part(t, self%time_value)
          if (self%extrapolate) call self%extrapolate_to(half, u, self%guess)
          call run_scheme(scheme, self%newton, t, half, u, self%u_half)
          if (outcome /= attempt_accepted) return
          if (self%extrapolate) self%guess = 2.0_dp*self%u_half - u
          call run_scheme(scheme, self%newton, t + half, half, self%u_half, self%u_new)
          if (outcome /= attempt_accepted) return
-         if (along_steps) then
+         if (known_points == 1) then
             ! P(t, u) - 2 P(t + h/2, u_half), the end's term added by time_variation
-            call scheme%start_part(self%time_difference, along_steps)
-            self%time_difference = self%time_value - 2.0_dp*self%time_difference
+            call take_start_part(t + half, self%time_difference)
+            if (known_points == 2) self%time_difference = self%time_value - 2.0_dp*self%time_difference
          end if
          self%delta = self%richardson*(self%u_new - self%u_whole)
          if (scheme%checks_defect) then

@@ -28,6 +28,8 @@ module taylorode_schemes_explicit_taylor
       real(dp), allocatable :: taylor2(:)
       !> dF/dt at U0, for a problem that depends on t
       real(dp), allocatable :: rhs_t0(:)
+      !> The time of the last step's start (of rhs0)
+      real(dp) :: t0 = 0.0_dp
       !> Jacobians at U0
       class(matrix_type), allocatable :: jac_f0, jac_g0
    contains
@@ -62,10 +64,12 @@ contains
       end if
    end function new_explicit_taylor
 
-   subroutine explicit_taylor_start_part(self, value, kept)
+   subroutine explicit_taylor_start_part(self, value, at, kept)
       class(explicit_taylor_type), intent(in) :: self
       real(dp), intent(inout) :: value(:)
+      real(dp), intent(out) :: at
       logical, intent(out) :: kept
+      at = self%t0
       kept = allocated(self%rhs0)
       if (kept) value = self%rhs0
    end subroutine explicit_taylor_start_part
@@ -110,6 +114,7 @@ contains
       call evaluate_f(problem, t, u0, self%f0, self%counters)
       call evaluate_g(problem, t, u0, self%g0, self%counters)
       self%rhs0 = self%f0 + self%g0
+      self%t0 = t
       if (.not. all(ieee_is_finite(self%rhs0))) then
          call set_code(stat, status_nonfinite)
          return

@@ -136,7 +136,7 @@ module taylorode_schemes_scheme
       procedure :: largest_step
       !> v = M^(-1) v with the Newton matrix of the scheme's last solve (default: v as it is)
       procedure :: damp_by_step_matrix
-      !> The part start_only_part of F at the start of the scheme's last step, if it keeps it
+      !> The part start_only_part of F at the start of the scheme's step, if it keeps it
       procedure :: start_part
       !> Step-size factor after an error-test rejection before the first accepted step
       !> (default: none, the controller's)
@@ -388,15 +388,19 @@ contains
       real(dp), contiguous, intent(inout) :: v(:)
    end subroutine damp_by_step_matrix
 
-   !> value = the part `start_only_part` of F at the start of the scheme's last step, when
-   !> the scheme keeps it (kept); the default keeps none.
-   subroutine start_part(self, value, kept)
+   !> value = the part `start_only_part` of F at the state the scheme's next step would
+   !> start from (that of its last step, or its end once an estimate evaluated it there),
+   !> and its time, when the scheme keeps it (kept); the default keeps none.
+   subroutine start_part(self, value, at, kept)
       !> The scheme
       class(scheme_type), intent(in) :: self
-      !> The part at the start of the last step (when kept)
+      !> The part (when kept)
       real(dp), intent(inout) :: value(:)
+      !> Its time (when kept)
+      real(dp), intent(out) :: at
       !> Whether the scheme keeps it
       logical, intent(out) :: kept
+      at = 0.0_dp
       kept = .false.
    end subroutine start_part
 

@@ -267,10 +267,12 @@ contains
       call self%newton(self%member)%apply_inverse(v, self%counters, stat)
    end subroutine semi_implicit_damp
 
-   subroutine semi_implicit_start_part(self, value, kept)
+   subroutine semi_implicit_start_part(self, value, at, kept)
       class(semi_implicit_taylor_type), intent(in) :: self
       real(dp), intent(inout) :: value(:)
+      real(dp), intent(out) :: at
       logical, intent(out) :: kept
+      at = self%t_start
       kept = self%known_f0
       if (kept) value = self%f0
    end subroutine semi_implicit_start_part
