@@ -154,7 +154,6 @@ contains
          new_unittest("second-derivatives-at-the-state-scale", test_second_derivative_scale), &
          new_unittest("forcing-switched-on-late-in-a-step", test_switched_forcing), &
          new_unittest("explicit-steps-stay-stable", test_explicit_stability), &
-         new_unittest("si-t-2-long-steps-under-a-stiff-forcing", test_si_t_2_stiff_forcing), &
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
          new_unittest("newton-ends-at-components-at-zero", test_newton_at_zero_components), &
@@ -1008,37 +1007,6 @@ contains
       if (allocated(error)) return
       call check(error, observer%worst <= 10.0_dp, "a step end "//format_real(observer%worst)//" tolerances off")
    end subroutine test_explicit_stability
-
-   !> si-t-2 on y' = -1e4 (y - cos t) - sin t, the decay in g and the forcing (1e4 cos t -
-   !> sin t) in f, y(0) = 1, to t = 10 at rtol = atol = 1e-7 and 1e-8: its estimate, filtered
-   !> by the step's matrix, let the steps grow to the whole interval's length (9 steps) and
-   !> y(10) came back 1e3 tolerances off with status ok. f's second difference in t over the
-   !> step, through the same matrix, holds them: within 10 tolerances.
-   subroutine test_si_t_2_stiff_forcing(error)
-      type(error_type), allocatable, intent(out) :: error
-      real(dp), parameter :: tols(2) = [1.0e-7_dp, 1.0e-8_dp]
-      type(forced_decay_problem) :: problem
-      class(scheme_type), allocatable :: scheme
-      type(integrator_options_type) :: options
-      type(integration_stats_type) :: stats
-      type(status_type) :: stat
-      real(dp) :: u(1), off
-      integer :: k
-
-      problem%rate = 1.0e4_dp
-      do k = 1, size(tols)
-         call new_scheme("si-t-2", scheme, stat)
-         options = integrator_options_type(rtol=tols(k), atol=tols(k))
-         u = [1.0_dp]
-         call integrate(problem, scheme, 0.0_dp, 10.0_dp, u, options, stats, stat)
-         call check(error, stat%code, status_ok, stat_message(stat))
-         if (allocated(error)) return
-         off = abs(u(1) - cos(10.0_dp))/(tols(k) + tols(k)*abs(cos(10.0_dp)))
-         call check(error, off <= 10.0_dp, "tol "//format_real(tols(k))//": y(10) "//format_real(off)// &
-            " tolerances off in "//format_integer(int(stats%accepted_steps))//" steps")
-         if (allocated(error)) return
-      end do
-   end subroutine test_si_t_2_stiff_forcing
 
    !> A solve that keeps no digit is a singular matrix: the stacked matrix of
    !> cancelling_system solves for a correction of exactly 0 although the residual is 1;

@@ -139,9 +139,8 @@ module taylorode_integrate_stepper
       !> The scheme's filtered trapezoidal defect of the step (schemes that check it)
       real(dp), allocatable :: defect(:)
       !> The second difference in t of the part of F the scheme evaluates at a step's
-      !> start only, one of its values and the state it is taken at (schemes with such a
-      !> part)
-      real(dp), allocatable :: time_difference(:), time_value(:), time_state(:)
+      !> start only, and one of its values (schemes with such a part)
+      real(dp), allocatable :: time_difference(:), time_value(:)
       !> The controller's memory before the last accepted attempt (for undo_acceptance)
       real(dp) :: undo_err_previous = 1.0_dp, undo_err_before = 1.0_dp, undo_h_previous = 0.0_dp
    contains
@@ -215,7 +214,6 @@ contains
       call sized(self%defect, merge(n, 0, scheme%checks_defect .and. self%estimate == estimate_doubling), what, stat)
       call sized(self%time_difference, merge(n, 0, scheme%start_only_part /= 0), what, stat)
       call sized(self%time_value, merge(n, 0, scheme%start_only_part /= 0), what, stat)
-      call sized(self%time_state, merge(n, 0, scheme%start_only_part /= 0), what, stat)
       ! the states and Newton tolerances of step doubling's half and whole steps
       call sized(self%u_half, merge(n, 0, self%estimate == estimate_doubling), what, stat)
       call sized(self%u_whole, merge(n, 0, self%estimate == estimate_doubling), what, stat)
@@ -449,9 +447,7 @@ contains
       else if (self%estimate == estimate_defect) then
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
          call run_scheme(scheme, self%newton, t, h, u, self%u_new)
-         if (outcome == attempt_accepted .and. timed) call take_start_part(t, self%time_value)
          if (outcome == attempt_accepted) call estimate_step_error()
-         if (outcome == attempt_accepted .and. known_points == 1) call difference_along_chord()
          if (outcome == attempt_accepted .and. options%local_extrapolation) call extrapolate_step()
       else
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
@@ -558,17 +554,13 @@ contains
 
       !> h |P(t + h) - 2 P(t + h/2) + P(t)|_w / time_check_limit, P the part of F the
       !> scheme evaluates at the step's start only, along the step (step doubling: at u,
-      !> u_half, u_new, the first two from the scheme, one evaluation; si-t-2's estimate:
-      !> at u, (u + u1)/2, u1, the ends from the scheme, one evaluation) or at the new
-      !> state (three): a P that switches later in the step leaves the scheme's estimate
+      !> u_half, u_new, the first two from the scheme, one evaluation) or at the new state
+      !> (three): a P that switches later in the step leaves the scheme's estimate
       !> untouched (its samples are at the start, and step doubling's at the midpoint
       !> too), this sees it. 0 where an evaluation fails (the step's own outcome stands).
       real(dp) function time_variation()
          real(dp) :: failed
          select case (known_points)
-         case (3)
-            ! (time_difference holds the whole second difference)
-            self%time_value = 0.0_dp
          case (2)
             call evaluate_part(t + h, self%u_new, self%time_value)
          case default
@@ -614,17 +606,6 @@ contains
          end if
       end subroutine take_start_part
 
-      !> After si-t-2's estimate, which evaluates f at the step's end: P(t) - 2 P(t + h/2,
-      !> (u + u1)/2) + P(t + h, u1) into time_difference (one evaluation)
-      subroutine difference_along_chord()
-         call take_start_part(t + h, self%time_difference)
-         if (known_points /= 2) return
-         self%time_state = 0.5_dp*(u + self%u_new)
-         self%time_difference = self%time_difference + self%time_value
-         call evaluate_part(t + 0.5_dp*h, self%time_state, self%time_value)
-         self%time_difference = self%time_difference - 2.0_dp*self%time_value
-         known_points = 3
-      end subroutine difference_along_chord
 
       !> Components declared nonnegative that came out below 0: set to 0 when their
       !> negative parts are within projection_limit in the error norm, else the attempt

@@ -167,7 +167,6 @@ contains
          self%newton_matrices = "I - h J_g(U1) + h^2/2 J_g0 (J_f0 + J_g(U1))"
          self%estimates_step_error = .true.
          self%amplifies_errors = .true.
-         self%start_only_part = difference_f
       end select
    end function new_semi_implicit_taylor
 
