@@ -606,7 +606,6 @@ contains
          end if
       end subroutine take_start_part
 
-
       !> Components declared nonnegative that came out below 0: set to 0 when their
       !> negative parts are within projection_limit in the error norm, else the attempt
       !> is rejected, h_next the part of the step before the first of them reached 0
