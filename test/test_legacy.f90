@@ -145,20 +145,12 @@ contains
    !> (1.4e-4 at worst: a cubic extrapolated beyond the points it was fitted to).
    subroutine test_contr_extrapolates(error)
       type(error_type), allocatable, intent(out) :: error
-      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(2)
-      integer :: iwork(liwork), ipar(1), idid
+      real(dp) :: x, y(1), h, rpar(2)
+      integer :: iwork(liwork), idid
       character(len=:), allocatable :: message
-      work = 0.0_dp
-      iwork = 0
       x = 0.0_dp
-      y = 1.0_dp
       h = 1.0e-3_dp
-      rtol = 1.0e-6_dp
-      atol = 1.0e-6_dp
-      rpar = 0.0_dp
-      call legacy_solve("radau5", 1, plain_decay, plain_decay, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
-         decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, extrapolating, 1, work, lwork, &
-         iwork, liwork, rpar, ipar, idid, message)
+      call solve_decay("radau5", 1, x, 2.0_dp, h, decay_jacobian, y, iwork, rpar, idid, message, extrapolating)
       call check(error, idid, 1, message)
       if (allocated(error)) return
       call check(error, rpar(2) > 0.0_dp .and. rpar(1) <= 1.0e-3_dp, "largest relative error half a step past X: "// &
@@ -172,21 +164,13 @@ contains
    subroutine test_solout_writes_state(error)
       type(error_type), allocatable, intent(out) :: error
       character(len=*), parameter :: names(2) = [character(len=6) :: "radau5", "i-t-2"]
-      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(1)
-      integer :: iwork(liwork), ipar(1), idid, k
+      real(dp) :: x, y(1), h, rpar(1)
+      integer :: iwork(liwork), idid, k
       character(len=:), allocatable :: message
       do k = 1, size(names)
-         work = 0.0_dp
-         iwork = 0
          x = 0.0_dp
-         y = 1.0_dp
          h = 1.0e-3_dp
-         rtol = 1.0e-6_dp
-         atol = 1.0e-6_dp
-         rpar = 0.0_dp
-         call legacy_solve(trim(names(k)), 1, plain_decay, plain_decay, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
-            decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, kicking, 1, work, lwork, iwork, &
-            liwork, rpar, ipar, idid, message)
+         call solve_decay(trim(names(k)), 1, x, 2.0_dp, h, decay_jacobian, y, iwork, rpar, idid, message, kicking)
          call check(error, idid, 1, trim(names(k))//": "//message)
          if (allocated(error)) return
          call check(error, abs(y(1) - 1.5_dp*exp(-2.0_dp)) <= 1.0e-4_dp, trim(names(k))//": Y(2) = "// &
@@ -199,20 +183,12 @@ contains
    !> (at NR = 1), X and Y as given (it was refused with IDID = -1).
    subroutine test_empty_interval(error)
       type(error_type), allocatable, intent(out) :: error
-      real(dp) :: x, y(1), h, rtol(1), atol(1), work(lwork), rpar(2)
-      integer :: iwork(liwork), ipar(1), idid
+      real(dp) :: x, y(1), h, rpar(2)
+      integer :: iwork(liwork), idid
       character(len=:), allocatable :: message
-      work = 0.0_dp
-      iwork = 0
       x = 1.0_dp
-      y = 1.0_dp
       h = 1.0e-3_dp
-      rtol = 1.0e-6_dp
-      atol = 1.0e-6_dp
-      rpar = 0.0_dp
-      call legacy_solve("radau5", 1, plain_decay, plain_decay, .false., x, y, 1.0_dp, h, rtol, atol, 0, &
-         decay_jacobian, 0, decay_jacobian, 1, 1, 0, legacy_no_mass, 0, 1, 0, extrapolating, 1, work, lwork, &
-         iwork, liwork, rpar, ipar, idid, message)
+      call solve_decay("radau5", 1, x, 1.0_dp, h, decay_jacobian, y, iwork, rpar, idid, message, extrapolating)
       call check(error, idid, -3, message)
       if (allocated(error)) return
       call check(error, h == 0.0_dp .and. x == 1.0_dp .and. y(1) == 1.0_dp .and. nint(rpar(2)) == 0, &
@@ -226,19 +202,12 @@ contains
    !> = 0 (it was 5).
    subroutine test_singular_not_steps(error)
       type(error_type), allocatable, intent(out) :: error
-      real(dp) :: x, y(2), h, rtol(1), atol(1), work(lwork), rpar(1)
-      integer :: iwork(liwork), ipar(1), idid
+      real(dp) :: x, y(2), h, rpar(1)
+      integer :: iwork(liwork), idid
       character(len=:), allocatable :: message
-      work = 0.0_dp
-      iwork = 0
       x = 0.0_dp
-      y = 1.0_dp
       h = 1.0e-6_dp
-      rtol = 1.0e-6_dp
-      atol = 1.0e-6_dp
-      call legacy_solve("radau5", 2, plain_decay, plain_decay, .false., x, y, 2.0_dp, h, rtol, atol, 0, &
-         huge_jacobian, 0, huge_jacobian, 1, 2, 0, legacy_no_mass, 0, 2, 0, no_output, 0, work, lwork, &
-         iwork, liwork, rpar, ipar, idid, message)
+      call solve_decay("radau5", 2, x, 2.0_dp, h, huge_jacobian, y, iwork, rpar, idid, message)
       call check(error, idid, -4, "IDID = "//format_integer(idid)//": "//message)
       if (allocated(error)) return
       call check(error, iwork(16) == 0 .and. iwork(17) == 0, "NSTEP = "//format_integer(iwork(16))//", NACCPT = "// &
@@ -937,6 +906,36 @@ contains
             rpar, ipar, idid, message)
       end if
    end subroutine solve_vdp
+
+   !> TAYLORODE(scheme_name, ...) on y' = -y (plain_decay) in n components from (x, 1) to
+   !> x_end, rtol = atol = 1e-6, RADAU5's settings at their defaults, the Jacobian `jac`
+   !> (IJAC = 1, dense), SOLOUT `solout` (IOUT = 1) when given, rpar zeroed first
+   subroutine solve_decay(scheme_name, n, x, x_end, h, jac, y, iwork, rpar, idid, message, solout)
+      character(len=*), intent(in) :: scheme_name
+      integer, intent(in) :: n
+      real(dp), intent(inout) :: x, h, rpar(:)
+      real(dp), intent(in) :: x_end
+      procedure(jac_interface) :: jac
+      real(dp), intent(out) :: y(n)
+      integer, intent(out) :: iwork(liwork), idid
+      character(len=:), allocatable, intent(out) :: message
+      procedure(solout_interface), optional :: solout
+      real(dp) :: rtol(1), atol(1), work(lwork)
+      integer :: ipar(1)
+      work = 0.0_dp
+      iwork = 0
+      y = 1.0_dp
+      rtol = 1.0e-6_dp
+      atol = 1.0e-6_dp
+      rpar = 0.0_dp
+      if (present(solout)) then
+         call legacy_solve(scheme_name, n, plain_decay, plain_decay, .false., x, y, x_end, h, rtol, atol, 0, jac, 0, &
+            jac, 1, n, 0, legacy_no_mass, 0, n, 0, solout, 1, work, lwork, iwork, liwork, rpar, ipar, idid, message)
+      else
+         call legacy_solve(scheme_name, n, plain_decay, plain_decay, .false., x, y, x_end, h, rtol, atol, 0, jac, 0, &
+            jac, 1, n, 0, legacy_no_mass, 0, n, 0, no_output, 0, work, lwork, iwork, liwork, rpar, ipar, idid, message)
+      end if
+   end subroutine solve_decay
 
    ! ----- the user's routines, as a RADAU5 user writes them -----
 

@@ -562,12 +562,12 @@ contains
          real(dp) :: failed
          select case (known_points)
          case (2)
-            call evaluate_part(t + h, self%u_new, self%time_value)
+            call evaluate_part(t + h, self%time_value)
          case default
-            call evaluate_part(t + h, self%u_new, self%time_difference)
-            call evaluate_part(t + 0.5_dp*h, self%u_new, self%time_value)
+            call evaluate_part(t + h, self%time_difference)
+            call evaluate_part(t + 0.5_dp*h, self%time_value)
             self%time_difference = self%time_difference - 2.0_dp*self%time_value
-            call evaluate_part(t, self%u_new, self%time_value)
+            call evaluate_part(t, self%time_value)
          end select
          self%time_difference = h*(self%time_difference + self%time_value)
          ! (what the step's implicit part makes of it: by about h |lambda| less in the
@@ -581,15 +581,14 @@ contains
          time_variation = self%weighted_norm(problem, options, self%time_difference)/time_check_limit
       end function time_variation
 
-      !> P at (at, state) into value, counted as the scheme's evaluations
-      subroutine evaluate_part(at, state, value)
+      !> P at (at, u_new) into value, counted as the scheme's evaluations
+      subroutine evaluate_part(at, value)
          real(dp), intent(in) :: at
-         real(dp), intent(in) :: state(:)
          real(dp), intent(out) :: value(:)
          if (scheme%start_only_part == difference_f) then
-            call evaluate_f(problem, at, state, value, scheme%counters)
+            call evaluate_f(problem, at, self%u_new, value, scheme%counters)
          else
-            call evaluate_rhs(problem, at, state, value, scheme%counters)
+            call evaluate_rhs(problem, at, self%u_new, value, scheme%counters)
          end if
       end subroutine evaluate_part
 
