@@ -40,7 +40,8 @@ contains
    !> pivots, to 1e-13 relative dense, 1e-12 band), on pseudo-random matrices that need row
    !> interchanges (dense ones of even order 70 % zeros off the diagonal, whose elimination
    !> skips columns), for every order up to 24 (dense) and bandwidths 0 to 5 with n from
-   !> 1 to 40 (band), and report the same first zero pivot of a singular matrix. The
+   !> 1 to 40 (band; the fill-in rows hold leftovers on entry, as in a reused matrix),
+   !> and report the same first zero pivot of a singular matrix. The
    !> solve written out statement by statement (orders up to 4, with the reciprocals)
    !> gives the numbers of the column-by-column substitution bit for bit (200 right-hand
    !> sides each).
@@ -104,6 +105,11 @@ contains
                   y(n), pivots(n), band_pivots(n))
                ab = 0.0_dp
                do j = 1, n
+                  ! the fill-in rows (within the matrix) hold what a factorization before
+                  ! left there: both factorizations set them to zero before they use them
+                  do i = max(1, kl + ku + 2 - j), kl
+                     ab(i, j) = next_value(state)
+                  end do
                   do i = max(1, j - ku), min(n, j + kl)
                      ab(kl + ku + 1 + i - j, j) = next_value(state)
                   end do
@@ -194,6 +200,9 @@ contains
                   pivots(n), band_pivots(n))
                ab = (0.0_dp, 0.0_dp)
                do j = 1, n
+                  do i = max(1, kl + ku + 2 - j), kl
+                     ab(i, j) = cmplx(next_value(state), next_value(state), dp)
+                  end do
                   do i = max(1, j - ku), min(n, j + kl)
                      ab(kl + ku + 1 + i - j, j) = cmplx(next_value(state), next_value(state), dp)
                   end do

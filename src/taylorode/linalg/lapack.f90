@@ -193,12 +193,14 @@ contains
       ju = 1
       width = min(ku, n - 1)
       do j = 1, n
-         if (j + kv <= n) ab(1:kl, j + kv) = 0.0_dp
          km = min(kl, n - j)
-         ! the pivot: the first entry of largest magnitude in A(j:j+km, j)
+         ! the pivot: the first entry of largest magnitude in A(j:j+km, j); in the same
+         ! loop the fill-in rows of column j + kv start as zeros (km = kl there; a loop of
+         ! their own is a call of memset per column for a few entries)
          jp = 1
          largest = abs(ab(kv + 1, j))
          do i = 2, km + 1
+            if (j + kv <= n) ab(i - 1, j + kv) = 0.0_dp
             if (abs(ab(kv + i, j)) > largest) then
                largest = abs(ab(kv + i, j))
                jp = i
@@ -364,11 +366,11 @@ contains
       ju = 1
       width = min(ku, n - 1)
       do j = 1, n
-         if (j + kv <= n) ab(1:kl, j + kv) = (0.0_dp, 0.0_dp)
          km = min(kl, n - j)
          jp = 1
          largest = abs(ab(kv + 1, j)%re) + abs(ab(kv + 1, j)%im)
          do i = 2, km + 1
+            if (j + kv <= n) ab(i - 1, j + kv) = (0.0_dp, 0.0_dp)
             if (abs(ab(kv + i, j)%re) + abs(ab(kv + i, j)%im) > largest) then
                largest = abs(ab(kv + i, j)%re) + abs(ab(kv + i, j)%im)
                jp = i
