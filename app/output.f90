@@ -155,6 +155,7 @@ contains
       type(text_file_type) :: file
       logical :: exists
       integer(c_int) :: signal_status
+      character(len=:), allocatable :: temporary
       if (is_directory(path)) then
          call set_status(stat, status_invalid_argument, path//" is a directory")
          return
@@ -183,7 +184,8 @@ contains
       ! a run ended by SIGINT, SIGTERM or SIGHUP removes the temporary file it was writing
       ! (a killed --history left tens of MB beside its destination); when it cannot
       ! arrange that, the file is left as before: nothing else to do
-      signal_status = c_remove_on_signal(temporary_path(path, 1)//c_null_char)
+      call temporary_path(path, 1, temporary)
+      signal_status = c_remove_on_signal(temporary//c_null_char)
    end subroutine check_target
 
    !> Start a CSV table; returns its index.

@@ -10,7 +10,11 @@
 #      installation holds the library's modules only);
 #   5. the legacy external procedures (src/taylorode/interfaces/legacy_entry.f90) use no
 #      module that reaches an IEEE intrinsic module through USE (gfortran would save and
-#      restore the floating-point environment around every call of them).
+#      restore the floating-point environment around every call of them);
+#   6. the installed library (build/install, when there) keeps no local variable in static
+#      memory, which calls on separate objects from several threads would share (gfortran
+#      12 keeps the length of a deferred-length character function result there, at each
+#      call of such a function: the library returns such text through arguments).
 # Prints one line per violation and "architecture: ok" when there is none.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -167,6 +171,13 @@ fi
 if [ -d build/install/include ]; then
   foreign="$(find build/install/include -name '*.mod' ! -name 'taylorode*.mod' -printf '%f ')"
   [ -z "$foreign" ] || complain "make install ships modules that are not the library's: $foreign"
+fi
+
+# no local static variables in the library (jump tables are read only)
+if [ -f build/install/lib/libtaylorode.a ]; then
+  shared="$(nm -A build/install/lib/libtaylorode.a 2>/dev/null | \
+    awk '$(NF-1) ~ /^[bd]$/ && $NF !~ /^jumptable\./ && $1 ~ /:src_taylorode/ {sub(/:[0-9a-f]+$/, "", $1); print $1 ":" $NF}')"
+  [ -z "$shared" ] || complain "static variables in the library, shared between threads: $(echo $shared)"
 fi
 
 if [ "$violations" -eq 0 ]; then

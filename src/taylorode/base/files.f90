@@ -290,7 +290,7 @@ contains
          self%descriptor = c_open(path//c_null_char, o_wronly, 0_c_int)
       else
          do attempt = 1, temporary_attempts
-            self%temporary = temporary_path(path, attempt)
+            call temporary_path(path, attempt, self%temporary)
             self%descriptor = c_open(self%temporary//c_null_char, ior(o_wronly, ior(o_creat, o_excl)), file_mode)
             if (self%descriptor >= 0) exit
             if (last_errno() /= errno_exists) exit
@@ -303,18 +303,19 @@ contains
    !> The temporary file `open` writes for path in its attempt'th try: path.tmp-PID-attempt
    !> beside it, the last component cut where that would pass name_max bytes (a file name
    !> of 250 bytes could not be written: its temporary name was too long).
-   function temporary_path(path, attempt) result(name)
+   subroutine temporary_path(path, attempt, name)
       !> The destination
       character(len=*), intent(in) :: path
       !> Which try (1 unless a file of that name was there)
       integer, intent(in) :: attempt
-      character(len=:), allocatable :: name
+      !> The temporary file's path
+      character(len=:), allocatable, intent(out) :: name
       character(len=32) :: suffix
       integer :: directory_end
       write (suffix, '(".tmp-", i0, "-", i0)') c_getpid(), attempt
       directory_end = index(path, "/", back=.true.)
       name = path(:min(len(path), directory_end + name_max - len_trim(suffix)))//trim(suffix)
-   end function temporary_path
+   end subroutine temporary_path
 
    !> Write to a descriptor that is already open (e.g. 1, standard output), in place;
    !> `commit` writes what is left and closes it.

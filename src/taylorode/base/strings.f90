@@ -87,10 +87,14 @@ contains
       !> The number
       real(dp), intent(in) :: x
       character(len=:), allocatable :: text
+      character(len=24) :: buffer
+      ! written out, not through format_wide_integer and format_real: a deferred-length
+      ! function result keeps its length in static memory with gfortran 12
       if (abs(x) < 1.0e9_dp .and. x == aint(x)) then
-         text = format_wide_integer(int(x, i8))
+         write (buffer, '(i0)') int(x, i8)
+         text = trim(buffer)
       else
-         text = format_real(x)
+         text = trim(fixed_length_real(x))
       end if
    end function format_number
 

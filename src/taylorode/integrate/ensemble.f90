@@ -87,8 +87,13 @@ contains
       first_failed = findloc(member_stat%code /= status_ok, .true., dim=1)
       write (summary, '("integrate_ensemble: ", i0, " of ", i0, " members failed; the first, member ", i0, ": ")') &
          failed, size(problems), first_failed
-      call set_status(stat, member_stat(first_failed)%code, trim(summary)//" "// &
-         member_message(member_stat(first_failed)))
+      ! the member's message as it is (a function returning it, of deferred length, would
+      ! keep that length in static memory with gfortran 12: ensembles may run at once)
+      if (allocated(member_stat(first_failed)%message)) then
+         call set_status(stat, member_stat(first_failed)%code, trim(summary)//" "//member_stat(first_failed)%message)
+      else
+         call set_status(stat, member_stat(first_failed)%code, trim(summary)//" ")
+      end if
    end subroutine integrate_ensemble
 
    !> The number of threads an ensemble uses by default: OpenMP's maximum, 1 in a build
@@ -112,13 +117,5 @@ contains
       if (stat%code /= status_ok) return
       call integrate(problem, scheme, t0, t_end, u, options, stats, stat)
    end subroutine integrate_member
-
-   !> A member's message ("" when it has none).
-   pure function member_message(stat) result(message)
-      type(status_type), intent(in) :: stat
-      character(len=:), allocatable :: message
-      message = ""
-      if (allocated(stat%message)) message = stat%message
-   end function member_message
 
 end module taylorode_integrate_ensemble

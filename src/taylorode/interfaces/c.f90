@@ -123,16 +123,20 @@ contains
 
    !> A Fortran string from a NUL-terminated C string (at most max_name_length + 1
    !> characters are read: a longer string comes back too long to be a name).
-   function from_c_string(text) result(value)
+   !> (A subroutine: a deferred-length function result keeps its length in static
+   !> memory with gfortran 12, shared by threads that create sessions at once.)
+   subroutine from_c_string(text, value)
       character(kind=c_char), intent(in) :: text(*)
-      character(len=:), allocatable :: value
-      integer :: k
+      character(len=:), allocatable, intent(out) :: value
+      integer :: k, i
       do k = 1, max_name_length + 1
          if (text(k) == c_null_char) exit
       end do
       allocate (character(len=k - 1) :: value)
-      value = transfer(text(1:k - 1), value)
-   end function from_c_string
+      do i = 1, k - 1
+         value(i:i) = text(i)
+      end do
+   end subroutine from_c_string
 
    !> Whether a C string can be a name as given: not empty, not too long, and without
    !> the blanks at either end that Fortran's comparisons would ignore.
@@ -195,7 +199,7 @@ contains
          call report(status_size_mismatch)
          return
       end if
-      name = from_c_string(scheme)
+      call from_c_string(scheme, name)
       if (.not. exact_name(name)) then
          call report(status_unknown_scheme)
          return
@@ -357,7 +361,7 @@ contains
          code = refused(session, "taylorode_set_option: the option's name is NULL")
          return
       end if
-      option = from_c_string(name)
+      call from_c_string(name, option)
       if (.not. exact_name(option)) then
          ! "h0 " is not "h0", although Fortran's select case would take it for it
          call set_status(stat, status_invalid_argument, 'taylorode_set_option: unknown option "'//option//'"')

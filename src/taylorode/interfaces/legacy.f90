@@ -212,7 +212,7 @@ contains
       if (present(message)) message = ""
       if (lwork < 20 .or. liwork < 20) then
          if (liwork >= 13) iwork(12:13) = [reason_storage, 0]
-         if (present(message)) message = legacy_message(reason_storage, 0)
+         if (present(message)) call legacy_message(reason_storage, 0, message)
          return
       end if
       iwork(12:13) = 0
@@ -554,7 +554,7 @@ contains
          iwork(12) = why
          iwork(13) = which
          if (present(message)) then
-            message = legacy_message(why, which)
+            call legacy_message(why, which, message)
             if (len_trim(library_message) > 0) message = message//" ("//trim(library_message)//")"
          end if
       end subroutine refuse
@@ -666,7 +666,7 @@ contains
       integer(c_int), value :: text_length
       character(len=:), allocatable :: sentence
       integer :: i
-      sentence = legacy_message(reason, detail)
+      call legacy_message(reason, detail, sentence)
       do i = 1, text_length
          text(i) = " "
          if (i <= len(sentence)) text(i) = sentence(i:i)
@@ -706,12 +706,13 @@ contains
 
    !> What IWORK(12) = reason (and IWORK(13) = detail, a component or setting) says, in
    !> words (TAYLORODE_MESSAGE).
-   pure function legacy_message(reason, detail) result(text)
+   pure subroutine legacy_message(reason, detail, text)
       !> IWORK(12)
       integer, intent(in) :: reason
       !> IWORK(13)
       integer, intent(in) :: detail
-      character(len=:), allocatable :: text
+      !> The sentence
+      character(len=:), allocatable, intent(out) :: text
       character(len=12) :: number
       write (number, '(i0)') detail
       select case (reason)
@@ -759,7 +760,7 @@ contains
       case (reason_memory); text = "memory could not be allocated (IDID = -8)"
       case default; text = "unknown reason"
       end select
-   end function legacy_message
+   end subroutine legacy_message
 
    !> SOLOUT at the start (NR = 1, XOLD = X), as RADAU5 does.
    subroutine start_solout(self, x, y, n)
