@@ -150,6 +150,7 @@ contains
          new_unittest("newton-failures-retried-until-h-works", test_failures_retried), &
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("long-steps-keep-their-digits", test_long_steps_keep_digits), &
+         new_unittest("time-keeps-up-with-the-steps", test_time_keeps_up), &
          new_unittest("solve-without-a-digit-is-singular", test_solve_without_a_digit_singular), &
          new_unittest("second-derivatives-at-the-state-scale", test_second_derivative_scale), &
          new_unittest("forcing-switched-on-late-in-a-step", test_switched_forcing), &
@@ -917,6 +918,42 @@ contains
       if (allocated(error)) return
       call check(error, abs(u(1)) <= 1.0e-300_dp, "i-t-1: u(1e30) = "//format_real(u(1)))
    end subroutine test_long_steps_keep_digits
+
+   !> t + h rounds, and over many steps of one size the roundings have one sign: t fell
+   !> behind the time the state was at. radau5 on u' = -u to t = 100 at rtol 1e-13 (atol
+   !> 0) holds h constant over 54,821 steps, which fell 1.27e-10 short of t = 100: the
+   !> state came back 1273 tolerances off (21,710 to t = 500; OREGO at 1e-13 66 off the
+   !> published solution). With t summed compensated (the last step takes what t lacks)
+   !> within a tolerance, at t_end and at output times every 1 (steps that land on them).
+   subroutine test_time_keeps_up(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp), parameter :: tol = 1.0e-13_dp, t_end = 100.0_dp
+      type(linear_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1), t_out(100), u_out(1, 100), worst
+      integer :: k
+
+      call new_scheme("radau5", scheme, stat)
+      options = integrator_options_type(rtol=tol, atol=0.0_dp)
+      u = [1.0_dp]
+      call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, stat)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      call check(error, abs(u(1)/exp(-t_end) - 1.0_dp) <= 2.0_dp*tol, "u(100) off by "// &
+         format_real(abs(u(1)/exp(-t_end) - 1.0_dp)/tol)//" tolerances after "// &
+         format_integer(int(stats%accepted_steps))//" steps")
+      if (allocated(error)) return
+      t_out = [(real(k, dp), k = 1, size(t_out))]
+      u = [1.0_dp]
+      call integrate(problem, scheme, 0.0_dp, t_end, u, options, stats, stat, t_out=t_out, u_out=u_out)
+      call check(error, stat%code, status_ok, stat_message(stat))
+      if (allocated(error)) return
+      worst = maxval(abs(u_out(1, :)/exp(-t_out) - 1.0_dp))/tol
+      call check(error, worst <= 2.0_dp, "outputs off by up to "//format_real(worst)//" tolerances")
+   end subroutine test_time_keeps_up
 
    !> i-t-2's Newton matrix differences J along F over a step e F of sqrt(epsilon) times
    !> |U|; with |U| < 1 it took 1 instead, and where J changes on the scale of U the

@@ -630,7 +630,8 @@ contains
 
    !> IDID = -3 where RADAU5 stops, 0.1 |H| <= |X| UROUND: y' = y^2, y(0) = 1 blows up
    !> at X = 1, where H shrinks until the call gives up at |H| <= 10 UROUND |X|: no
-   !> accepted step is that small (SOLOUT records the smallest), and with UROUND = WORK(1)
+   !> accepted step is that small (SOLOUT records the smallest X - XOLD, the step to
+   !> within the roundings of X and XOLD, a spacing of X), and with UROUND = WORK(1)
    !> = 1e-10 it gives up after fewer attempts than with the default 1e-16. Before, TAYLORODE
    !> went on down to 2 epsilon |X| whatever UROUND: on Robertson with ATOL = RTOL = 1e-2
    !> (a blow-up, which RADAU5 also ends with IDID = -3) 95 attempts against RADAU5's 93,
@@ -658,7 +659,7 @@ contains
          attempts(case) = iwork(16)
          ! (the steps near the blow-up, where X is 1 to within 1e-3)
          call check(error, abs(x - 1.0_dp) < 1.0e-3_dp .and. rpar(1) > 0.999_dp*10.0_dp* &
-            merge(1.0e-10_dp, 1.0e-16_dp, case == 2), &
+            merge(1.0e-10_dp, 1.0e-16_dp, case == 2) - spacing(x), &
             "UROUND "//merge("1e-10", "1e-16", case == 2)//": stopped at X = "//format_real(x)// &
             ", smallest accepted step "//format_real(rpar(1)))
          if (allocated(error)) return

@@ -61,6 +61,10 @@ module taylorode_integrate_integrator
       type(integrator_options_type) :: options
       !> Current time and the step size the next call starts with
       real(dp) :: t = 0.0_dp, h = 0.0_dp
+      !> What t lacks of the time the state is at, t0 plus the steps taken, which t
+      !> rounds (compensated summation: t is that time rounded, so that it does not
+      !> drift from the state by a rounding of every step; the last step absorbs it)
+      real(dp) :: t_low = 0.0_dp
       !> Statistics since init (each call also returns its own)
       type(integration_stats_type) :: total
       !> Unknowns
@@ -229,6 +233,7 @@ contains
       self%total = integration_stats_type()
       self%total%t_reached = t0
       self%t = t0
+      self%t_low = 0.0_dp
       self%n = size(u0)
       if (self%n < 1) then
          call set_status(stat, status_size_mismatch, "integrate: the state is empty")
@@ -383,6 +388,8 @@ contains
       type(counters_type) :: work_before
       type(status_type) :: step_stat
       real(dp) :: t, h, h_next, h_natural, err, nan, trouble_end, t_stop, h_retry
+      ! what t lacks of the state's time before and after the attempted step (self%t_low)
+      real(dp) :: t_low, t_low_end
       ! the longest step the scheme's solves can resolve (scheme%largest_step, which
       ! changes only after an attempt with a singular matrix)
       real(dp) :: step_limit
@@ -400,6 +407,7 @@ contains
       end if
       work_before = scheme%counters
       t = self%t
+      t_low = self%t_low
       call_stats%t_reached = t
       nan = ieee_value(1.0_dp, ieee_quiet_nan)
       need_step = present(t_out) .or. present(observer) .or. present(events)
@@ -445,7 +453,7 @@ contains
          end if
          h_natural = h
          last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
-         if (last) h = t_target - t
+         if (last) h = (t_target - t) - t_low
          if (h < self%options%h_min .or. h <= max(roundoff_steps*epsilon(1.0_dp), self%options%h_min_relative)*abs(t) &
             .or. .not. (h > 0.0_dp)) then
             write (text, '("integrate: step size ", a, " below the minimum step or the roundoff of t = ", a)') &
@@ -457,12 +465,17 @@ contains
          end if
          attempts = attempts + 1
          newton_before = scheme%counters%newton_iterations
-         t_step_end = merge(t_target, t + h, last)
+         if (last) then
+            t_step_end = t_target
+            t_low_end = 0.0_dp
+         else
+            call add_to_time(t, t_low, h, t_step_end, t_low_end)
+         end if
          ! a step that lands within roundoff of an output time ends there, as one that
          ! lands on the target does: t + h could end one rounding short of it, and the
          ! next attempt, with the output time inside, was retried to end there with h =
          ! t_out - t, one rounding of t (a step-size underflow)
-         if (present(t_out) .and. .not. last) call land_on_output(t_step_end)
+         if (present(t_out) .and. .not. last) call land_on_output(t_step_end, t_low_end)
          err = nan
          call self%stepper%attempt(problem, scheme, self%options, t, h, u, outcome, err, h_next, step_stat)
          ! below the steps the scheme's solves cannot resolve (none but after such a solve)
@@ -508,10 +521,12 @@ contains
             end if
             if (stop_here) then
                t = self%step%t_end
+               t_low = 0.0_dp
                u = self%step%u_end
             else
                u = self%stepper%u_new
                t = t_step_end
+               t_low = t_low_end
             end if
             call_stats%t_reached = t
             if (need_step) call push_ring(t, u)
@@ -590,6 +605,7 @@ contains
          end if
       end do
       self%t = t
+      self%t_low = t_low
       self%h = h
       call finish()
 
@@ -725,15 +741,21 @@ contains
 
       !> The output time within roundoff of a step's end (from next_output on), which the
       !> step then ends at: t_end_of_step becomes it, else stays.
-      subroutine land_on_output(t_end_of_step)
+      subroutine land_on_output(t_end_of_step, low_end_of_step)
          !> t + h on entry; the output time within roundoff of it, if there is one
          real(dp), intent(inout) :: t_end_of_step
+         !> What t_end_of_step lacks of the state's time (it takes the difference)
+         real(dp), intent(inout) :: low_end_of_step
          real(dp) :: roundoff
          integer :: k
          roundoff = roundoff_steps*epsilon(1.0_dp)*abs(t_end_of_step)
          do k = next_output, size(t_out)
             if (t_out(k) >= t_end_of_step - roundoff) then
-               if (t_out(k) <= t_end_of_step + roundoff) t_end_of_step = t_out(k)
+               if (t_out(k) <= t_end_of_step + roundoff) then
+                  ! (exact: the two are within a few roundings of each other)
+                  low_end_of_step = low_end_of_step + (t_end_of_step - t_out(k))
+                  t_end_of_step = t_out(k)
+               end if
                return
             end if
          end do
@@ -919,5 +941,24 @@ contains
       total%cpu_seconds = total%cpu_seconds + call_stats%cpu_seconds
       total%wall_seconds = total%wall_seconds + call_stats%wall_seconds
    end subroutine accumulate
+
+   !> The time a step of size h from t (which lacks t_low of the state's time) ends at,
+   !> rounded, and what that lacks: t + t_low + h = t_end + t_low_end to a rounding of
+   !> t_low's size (Knuth's two-sum gives t + h exactly as a sum of two numbers).
+   pure subroutine add_to_time(t, t_low, h, t_end, t_low_end)
+      !> Start of the step, and what it lacks of the state's time
+      real(dp), intent(in) :: t, t_low
+      !> Step size
+      real(dp), intent(in) :: h
+      !> End of the step, rounded, and what it lacks
+      real(dp), intent(out) :: t_end, t_low_end
+      real(dp) :: rounded, error, h_part, low
+      rounded = t + h
+      h_part = rounded - t
+      error = (t - (rounded - h_part)) + (h - h_part)
+      low = error + t_low
+      t_end = rounded + low
+      t_low_end = (rounded - t_end) + low
+   end subroutine add_to_time
 
 end module taylorode_integrate_integrator
