@@ -12,7 +12,7 @@ module test_integrator
       norm_rms, advance_low, step_history_type, write_history_csv, estimate_embedded, estimate_doubling, estimate_defect, &
       attempt_accepted, status_ok, status_invalid_argument, status_size_mismatch, status_nonfinite, &
       status_max_steps, status_step_underflow, status_newton_not_converged, status_singular_matrix, &
-      step_observer_type, accepted_step_type
+      step_observer_type, accepted_step_type, integrator_type
    use taylorode_newton_solver, only: newton_solver_type, nonlinear_system_type, newton_settings_type
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, dense_structure
    use taylorode_base_counters, only: counters_type
@@ -151,6 +151,7 @@ contains
          new_unittest("singular-newton-limit-cumulative", test_singular_cumulative), &
          new_unittest("long-steps-keep-their-digits", test_long_steps_keep_digits), &
          new_unittest("time-keeps-up-with-the-steps", test_time_keeps_up), &
+         new_unittest("target-within-roundoff-is-reached", test_target_within_roundoff), &
          new_unittest("solve-without-a-digit-is-singular", test_solve_without_a_digit_singular), &
          new_unittest("second-derivatives-at-the-state-scale", test_second_derivative_scale), &
          new_unittest("forcing-switched-on-late-in-a-step", test_switched_forcing), &
@@ -954,6 +955,38 @@ contains
       worst = maxval(abs(u_out(1, :)/exp(-t_out) - 1.0_dp))/tol
       call check(error, worst <= 2.0_dp, "outputs off by up to "//format_real(worst)//" tolerances")
    end subroutine test_time_keeps_up
+
+   !> advance_to a target one rounding past t: no step resolves it, and the call failed
+   !> with a step-size underflow, which it kept as the next call's first step: every
+   !> later call failed at once (an outside audit). Now the target is reached where the
+   !> state is (as a step lands on an output time within roundoff), with the output
+   !> there, and the next call goes on as before.
+   subroutine test_target_within_roundoff(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_type) :: integrator
+      type(integrator_options_type) :: options
+      type(status_type) :: stat
+      real(dp) :: u(1), u_out(1, 1), t_near
+      call new_scheme("i-t-2", scheme, stat)
+      u = [1.0_dp]
+      call integrator%init(problem, scheme, 1.0_dp, u, options, stat)
+      call integrator%advance_to(problem, scheme, 1.5_dp, u, stat)
+      call check(error, stat%code, status_ok, "to 1.5: "//stat_message(stat))
+      if (allocated(error)) return
+      t_near = nearest(1.5_dp, 2.0_dp)
+      call integrator%advance_to(problem, scheme, t_near, u, stat, t_out=[t_near], u_out=u_out)
+      call check(error, stat%code, status_ok, "to 1.5 + 1 ulp: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, integrator%t == t_near .and. u_out(1, 1) == u(1), "t = "//format_real(integrator%t, 17)// &
+         ", the output "//format_real(u_out(1, 1), 17)//", u "//format_real(u(1), 17))
+      if (allocated(error)) return
+      call integrator%advance_to(problem, scheme, 2.0_dp, u, stat)
+      call check(error, stat%code, status_ok, "then to 2: "//stat_message(stat))
+      if (allocated(error)) return
+      call check(error, abs(u(1) - exp(-1.0_dp)) <= 10.0_dp*options%rtol, "u(2) = "//format_real(u(1)))
+   end subroutine test_target_within_roundoff
 
    !> i-t-2's Newton matrix differences J along F over a step e F of sqrt(epsilon) times
    !> |U|; with |U| < 1 it took 1 instead, and where J changes on the scale of U the

@@ -454,6 +454,23 @@ contains
          h_natural = h
          last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
          if (last) h = (t_target - t) - t_low
+         if (last .and. t_target - t <= roundoff_steps*epsilon(1.0_dp)*abs(t_target)) then
+            ! a target within roundoff of t is where the state is, as a step that ends
+            ! within roundoff of an output time ends there (no step resolves the rest; the
+            ! call failed with a step-size underflow, and every later one with it)
+            t = t_target
+            t_low = 0.0_dp
+            call_stats%t_reached = t
+            if (present(t_out)) then
+               do while (next_output <= size(t_out))
+                  if (t_out(next_output) > t) exit
+                  u_out(:, next_output) = u
+                  next_output = next_output + 1
+               end do
+            end if
+            h = h_natural
+            exit
+         end if
          if (h < self%options%h_min .or. h <= max(roundoff_steps*epsilon(1.0_dp), self%options%h_min_relative)*abs(t) &
             .or. .not. (h > 0.0_dp)) then
             write (text, '("integrate: step size ", a, " below the minimum step or the roundoff of t = ", a)') &
@@ -461,6 +478,8 @@ contains
             if (failures > 0) write (text, '(a, " after ", i0, " consecutive failed attempts, last: ", a)') &
                trim(text), failures, trim(status_description(last_failure))
             call set_status(stat, status_step_underflow, trim(text))
+            ! the next call starts with the step before the cut to the target
+            if (last) h = h_natural
             exit
          end if
          attempts = attempts + 1
