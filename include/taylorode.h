@@ -88,7 +88,9 @@ int taylorode_set_tolerance_vectors(taylorode_t *ode, const double *rtol, const 
 int taylorode_set_option(taylorode_t *ode, const char *name, double value);
 
 /* Start at (t0, u0); then continue call after call (u may be changed between calls) to any t not
-   before the current time (t equal to it returns at once) */
+   before the current time (t equal to it returns at once). Settings (bandwidths, tolerances,
+   options) apply from taylorode_init on: one changed after it ends the integration under way, and
+   taylorode_advance_to asks for taylorode_init again */
 int taylorode_init(taylorode_t *ode, double t0, const double *u0);
 int taylorode_advance_to(taylorode_t *ode, double t, double *u);
 /* From t0 to t_end > t0 in one call (t_end <= t0 is refused, u untouched): u holds u(t0) on entry,

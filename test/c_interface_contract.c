@@ -154,6 +154,21 @@ int main(void) {
   expect(taylorode_init(ode, 0.0, u) == TAYLORODE_OK && taylorode_advance_to(ode, 1.0, u) == TAYLORODE_OK,
          "init again, then advance_to", taylorode_message(ode));
 
+  /* any setting changed after init likewise ends the integration under way (it went on
+     with the settings of init, and returned TAYLORODE_OK for the new ones, ignored) */
+  expect(taylorode_set_tolerances(ode, 1e-9, 1e-9) == TAYLORODE_OK, "set_tolerances after init", taylorode_message(ode));
+  expect_refused(taylorode_advance_to(ode, 2.0, u), TAYLORODE_INVALID_ARGUMENT, ode, "advance_to after set_tolerances");
+  expect(taylorode_init(ode, 1.0, u) == TAYLORODE_OK, "init again", taylorode_message(ode));
+  expect(taylorode_set_tolerance_vectors(ode, tolerances, tolerances) == TAYLORODE_OK,
+         "set_tolerance_vectors after init", taylorode_message(ode));
+  expect_refused(taylorode_advance_to(ode, 2.0, u), TAYLORODE_INVALID_ARGUMENT, ode,
+                 "advance_to after set_tolerance_vectors");
+  expect(taylorode_init(ode, 1.0, u) == TAYLORODE_OK, "init again", taylorode_message(ode));
+  expect(taylorode_set_option(ode, "max_steps", 1.0) == TAYLORODE_OK, "set_option after init", taylorode_message(ode));
+  expect_refused(taylorode_advance_to(ode, 2.0, u), TAYLORODE_INVALID_ARGUMENT, ode, "advance_to after set_option");
+  expect(taylorode_init(ode, 1.0, u) == TAYLORODE_OK && taylorode_advance_to(ode, 2.0, u) == TAYLORODE_MAX_STEPS,
+         "init again: the step budget of 1 applies", taylorode_message(ode));
+
   taylorode_free(ode);
   printf("%d failed\n", failures);
   return failures;

@@ -286,12 +286,19 @@ contains
       ! the scheme's matrices were made for the bands at taylorode_init: the integration
       ! cannot go on with others (advance_to read the new work array with the old bands,
       ! past its end); taylorode_init starts it again
-      if (session%started) then
-         session%integrator%ready = .false.
-         session%started = .false.
-      end if
+      call end_integration(session)
       code = succeeded(session)
    end function taylorode_set_bandwidths
+
+   !> A setting changed after taylorode_init: the integration under way, which init
+   !> prepared with the settings before, ends (advance_to asks for taylorode_init again;
+   !> it went on with the old settings, and the new ones were silently ignored).
+   subroutine end_integration(session)
+      type(session_type), intent(inout) :: session
+      if (.not. session%started) return
+      session%integrator%ready = .false.
+      session%started = .false.
+   end subroutine end_integration
 
    !> `taylorode_set_tolerances`: scalar rtol and atol.
    integer(c_int) function taylorode_set_tolerances(handle, rtol, atol) result(code) &
@@ -306,6 +313,7 @@ contains
       session%options%atol = atol
       if (allocated(session%options%rtol_vector)) deallocate (session%options%rtol_vector)
       if (allocated(session%options%atol_vector)) deallocate (session%options%atol_vector)
+      call end_integration(session)
       code = succeeded(session)
    end function taylorode_set_tolerances
 
@@ -337,6 +345,7 @@ contains
       atol_copy = atol(:session%n)
       call move_alloc(rtol_copy, session%options%rtol_vector)
       call move_alloc(atol_copy, session%options%atol_vector)
+      call end_integration(session)
       code = succeeded(session)
    end function taylorode_set_tolerance_vectors
 
@@ -405,6 +414,7 @@ contains
             call set_status(stat, status_invalid_argument, 'taylorode_set_option: unknown option "'//option//'"')
          end select
       end associate
+      if (stat%code == status_ok) call end_integration(session)
       code = remember(session, stat)
 
    contains
@@ -466,8 +476,8 @@ contains
          return
       end if
       if (.not. session%started) then
-         code = refused(session, "taylorode_advance_to: call taylorode_init first (again after "// &
-            "taylorode_set_bandwidths)")
+         code = refused(session, "taylorode_advance_to: call taylorode_init first (again after a setting "// &
+            "changed: settings apply from taylorode_init on)")
          return
       end if
       call session%integrator%advance_to(session%problem, session%scheme, t, u(:session%n), stat)
