@@ -90,6 +90,7 @@ contains
          new_unittest("solout-writes-the-state", test_solout_writes_state), &
          new_unittest("empty-interval-as-radau5", test_empty_interval), &
          new_unittest("singular-attempts-are-not-steps", test_singular_not_steps), &
+         new_unittest("radau5-named-with-blanks", test_radau5_named_with_blanks), &
          new_unittest("settings-checked-as-radau5", test_settings_checked), &
          new_unittest("settings-in-range-accepted", test_settings_accepted), &
          new_unittest("radau5-as-radau5", test_radau5_as_radau5), &
@@ -213,6 +214,29 @@ contains
       call check(error, iwork(16) == 0 .and. iwork(17) == 0, "NSTEP = "//format_integer(iwork(16))//", NACCPT = "// &
          format_integer(iwork(17)))
    end subroutine test_singular_not_steps
+
+   !> ' radau5' names radau5 as 'radau5' does, with RADAU5's meaning of RTOL and ATOL:
+   !> the name with a leading blank went to the registry's radau5 with the library's
+   !> meaning (9 steps against 11, and RADAU5's checks of RTOL and ATOL skipped).
+   subroutine test_radau5_named_with_blanks(error)
+      type(error_type), allocatable, intent(out) :: error
+      real(dp) :: x, y(1), h, rpar(1), y_plain(1)
+      integer :: iwork(liwork), iwork_plain(liwork), idid
+      character(len=:), allocatable :: message
+      x = 0.0_dp
+      h = 1.0e-3_dp
+      call solve_decay("radau5", 1, x, 2.0_dp, h, decay_jacobian, y_plain, iwork_plain, rpar, idid, message)
+      call check(error, idid, 1, message)
+      if (allocated(error)) return
+      x = 0.0_dp
+      h = 1.0e-3_dp
+      call solve_decay(" radau5 ", 1, x, 2.0_dp, h, decay_jacobian, y, iwork, rpar, idid, message)
+      call check(error, idid, 1, message)
+      if (allocated(error)) return
+      call check(error, all(iwork(14:20) == iwork_plain(14:20)) .and. y(1) == y_plain(1), "' radau5 ': "// &
+         format_integer(iwork(16))//" steps, y = "//format_real(y(1), 17)//"; 'radau5': "// &
+         format_integer(iwork_plain(16))//" steps, y = "//format_real(y_plain(1), 17))
+   end subroutine test_radau5_named_with_blanks
 
    !> Every setting RADAU5 checks, out of its range, is IDID = -1 with a reason in
    !> IWORK(12) and a message, and the state untouched: IWORK(2) < 0 (it ran with the

@@ -216,7 +216,7 @@ contains
          return
       end if
       iwork(12:13) = 0
-      radau = trim(scheme_name) == "radau5"
+      radau = trim(adjustl(scheme_name)) == "radau5"   ! (as new_scheme reads a name)
       empty = xend == x
       call read_settings(reason, detail)
       if (reason /= reason_none) then
