@@ -158,6 +158,7 @@ contains
          new_unittest("explicit-steps-stay-stable", test_explicit_stability), &
          new_unittest("tiny-first-step-of-a-problem-in-t", test_tiny_first_step), &
          new_unittest("huge-newton-iteration-limit", test_huge_iteration_limit), &
+         new_unittest("one-newton-iteration", test_one_newton_iteration), &
          new_unittest("newton-ends-at-components-at-zero", test_newton_at_zero_components), &
          new_unittest("steps-land-on-output-times", test_steps_land_on_outputs), &
          new_unittest("dense-output", test_dense_output), &
@@ -1189,6 +1190,43 @@ contains
       call check(error, stats%rejected_newton <= 2_i8, format_integer(int(stats%rejected_newton))// &
          " attempts failed in Newton")
    end subroutine test_newton_at_zero_components
+
+   !> max_newton_iterations = 1: radau5 integrates u' = -u over [0, 1] with it; the other
+   !> implicit schemes refuse it, as their Newton takes no first increment of a matrix it
+   !> has just built alone (they ran, no solve converged, the step fell to 1e-15 and the
+   !> step budget ran out at t = 1e-9; an outside audit); 2 they take.
+   subroutine test_one_newton_iteration(error)
+      type(error_type), allocatable, intent(out) :: error
+      type(linear_decay_problem) :: problem
+      class(scheme_type), allocatable :: scheme
+      type(integrator_options_type) :: options
+      type(integration_stats_type) :: stats
+      type(status_type) :: stat
+      real(dp) :: u(1)
+      integer :: k
+      do k = 1, scheme_count
+         call new_scheme(scheme_names(k), scheme, stat)
+         if (.not. scheme%implicit) cycle
+         options = integrator_options_type(rtol=1.0e-6_dp, atol=1.0e-6_dp, max_newton_iterations=1, &
+            max_steps=100000_i8)
+         u = [1.0_dp]
+         call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         if (scheme_names(k) /= "radau5") then
+            call check(error, stat%code == status_invalid_argument .and. &
+               index(stat_message(stat), "max_newton_iterations") > 0 .and. u(1) == 1.0_dp, &
+               trim(scheme_names(k))//" with 1 iteration: "//stat_message(stat))
+            if (allocated(error)) return
+            options%max_newton_iterations = 2
+            call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         end if
+         call check(error, stat%code, status_ok, trim(scheme_names(k))//": "//stat_message(stat))
+         if (allocated(error)) return
+         call check(error, abs(u(1) - exp(-1.0_dp)) <= 1.0e-3_dp .and. stats%accepted_steps <= 10000_i8, &
+            trim(scheme_names(k))//": u(1) = "//format_real(u(1))//" in "//format_integer(int(stats%accepted_steps))// &
+            " steps")
+         if (allocated(error)) return
+      end do
+   end subroutine test_one_newton_iteration
 
    !> radau5 with max_newton_iterations = huge(0) steps as with 1000, both in effect no
    !> limit (Van der Pol, mu = 1e3, from (2, 0) to t = 3000, tol 1e-6): its step safety

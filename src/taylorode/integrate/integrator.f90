@@ -225,6 +225,7 @@ contains
       type(status_type), intent(out) :: stat
       type(counters_type) :: work_before
       real(dp) :: size_u, size_f
+      character(len=200) :: refusal
 
       self%ready = .false.
       ! the last accepted step of an earlier integration does not precede the first of this one
@@ -259,6 +260,15 @@ contains
       if (options%error_estimate == estimate_defect .and. .not. scheme%estimates_step_error) then
          call set_status(stat, status_invalid_argument, "integrate: error_estimate = estimate_defect needs a "// &
             "scheme that estimates the error of its own step (si-t-2); "//scheme%name//" has none")
+         return
+      end if
+      if (scheme%implicit .and. options%max_newton_iterations > 0 .and. &
+         options%max_newton_iterations < scheme%least_newton_iterations) then
+         ! (else no solve could converge: the step fell to roundoff, the budget ran out)
+         write (refusal, '("integrate: max_newton_iterations must be at least ", i0, " for ", a, &
+            &" (its Newton takes no first increment of a new matrix alone), or 0 for the scheme''s own")') &
+            scheme%least_newton_iterations, scheme%name
+         call set_status(stat, status_invalid_argument, trim(refusal))
          return
       end if
       call scheme%prepare(problem, self%n, stat)

@@ -264,6 +264,7 @@ contains
       self%estimates_own_error = .true.
       self%weights_at_start = .true.
       self%takes_newton_guess = .false.
+      self%least_newton_iterations = 1
       self%dense_degree = 3
       self%newton_iterations = newton_iteration_limit
       self%refines_estimate = .true.

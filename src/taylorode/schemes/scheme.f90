@@ -76,6 +76,10 @@ module taylorode_schemes_scheme
       !> Whether its Newton iteration starts from a guess the integrator gives (the
       !> extrapolated last step); radau5 starts from its own collocation polynomial
       logical :: takes_newton_guess = .true.
+      !> Fewest Newton iterations a solve of the scheme can converge in: 2 with the
+      !> library's Newton, which takes no first increment of a matrix it has just built
+      !> alone; radau5's own iteration 1
+      integer :: least_newton_iterations = 2
       !> Whether `step_error` estimates the local error of the step just taken (the
       !> second-order Taylor schemes: their filtered trapezoidal defect)
       logical :: estimates_step_error = .false.
