@@ -616,6 +616,10 @@ contains
       options = integrator_options_type(h0=-1.0e-3_dp)
       call expect(status_invalid_argument, "h0")
       if (allocated(error)) return
+      ! a subnormal first step: 1/h0 overflows (radau5 and imex-rk21 failed with NaN)
+      options = integrator_options_type(h0=tiny(1.0_dp)/4.0_dp)
+      call expect(status_invalid_argument, "h0")
+      if (allocated(error)) return
       options = integrator_options_type(h_max=0.0_dp)
       call expect(status_invalid_argument, "h_max")
       if (allocated(error)) return

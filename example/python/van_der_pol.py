@@ -28,6 +28,22 @@ lib.taylorode_message.argtypes = [ctypes.c_void_p]
 lib.taylorode_free.argtypes = [ctypes.c_void_p]
 
 MU = 10.0
+failures = []
+
+
+def callback(function):
+    """A C callback that stops the integration (returns -1) when the Python function raises:
+    ctypes itself would print the exception and return 0, and the library would go on with
+    the values never written (status ok with a wrong answer)."""
+
+    def guarded(*args):
+        try:
+            return function(*args)
+        except BaseException as exception:
+            failures.append(exception)
+            return -1
+
+    return RHS(guarded)
 
 
 def view(pointer, count):
@@ -35,7 +51,7 @@ def view(pointer, count):
     return np.ctypeslib.as_array(pointer, shape=(count,))
 
 
-@RHS
+@callback
 def f(t, u, dudt, data):
     u, dudt = view(u, 2), view(dudt, 2)
     dudt[0] = u[1]
@@ -43,7 +59,7 @@ def f(t, u, dudt, data):
     return 0
 
 
-@RHS
+@callback
 def g(t, u, dudt, data):
     u, dudt = view(u, 2), view(dudt, 2)
     dudt[0] = 0.0
@@ -51,13 +67,13 @@ def g(t, u, dudt, data):
     return 0
 
 
-@RHS
+@callback
 def jac_f(t, u, jac, data):
     view(jac, 4)[:] = [0.0, -1.0, 1.0, 0.0]  # column-major
     return 0
 
 
-@RHS
+@callback
 def jac_g(t, u, jac, data):
     u = view(u, 2)
     view(jac, 4)[:] = [0.0, -2.0 * MU * u[0] * u[1], 0.0, MU * (1.0 - u[0] * u[0])]
@@ -73,6 +89,9 @@ lib.taylorode_set_tolerances(ode, 1e-8, 1e-8)
 lib.taylorode_set_option(ode, b"autonomous", 1.0)  # f and g do not depend on t
 u = np.array([2.0, 0.0])
 code = lib.taylorode_integrate(ode, 0.0, 10.0, u.ctypes.data_as(double_p))
+if failures:
+    lib.taylorode_free(ode)
+    raise failures[0]
 if code != 0:
     message = lib.taylorode_message(ode).decode()
     lib.taylorode_free(ode)

@@ -311,6 +311,10 @@ contains
       if (.not. finite_at_least(options%h0, 0.0_dp)) then
          call invalid("h0 must be finite and > 0 (or 0 to choose it automatically)"); return
       end if
+      if (options%h0 > 0.0_dp .and. options%h0 < tiny(1.0_dp)) then
+         ! (1/h0 overflows: the first attempts failed with NaN or Inf)
+         call invalid("h0 must not be subnormal (at least 2.2E-308, or 0 to choose it automatically)"); return
+      end if
       if (.not. finite_at_least(options%h_min, 0.0_dp)) then
          call invalid("h_min must be finite and >= 0"); return
       end if
