@@ -93,8 +93,7 @@ contains
          new_unittest("proportional-medakzo", test_medakzo), &
          new_unittest("proportional-transamp", test_transamp), &
          new_unittest("newton-error-bounded-at-tight-tolerances", test_tight_tolerances), &
-         new_unittest("doubled-steps-newton-error-bounded", test_doubled_steps_newton), &
-         new_unittest("newton-at-rounding-bounded", test_newton_at_rounding) &
+         new_unittest("doubled-steps-newton-error-bounded", test_doubled_steps_newton) &
          ]
    end subroutine collect_accuracy
 
@@ -182,18 +181,6 @@ contains
       call check_case(error, "vdp", [1.0e-10_dp], [character(len=8) :: "i-t-2"], run_budget=200000_i8, &
          must_succeed=.true.)
    end subroutine test_doubled_steps_newton
-
-   !> Below rtol eps^(2/3) (3.7e-11) Newton's stop is at its floor of 10 roundings of the
-   !> state, 10 times and more the fraction the tolerance asks for; a contraction measured
-   !> from increments of that size let i-t-2 stop short, and on Robertson to 1e11 at
-   !> 1e-12 its leftovers added up to 10^3.4 tolerances on the grid (status ok; Robertson
-   !> to 1e6: 2,500 at t = 1e6). There the error left is taken to be at least the last
-   !> increment: 10^0.1.
-   subroutine test_newton_at_rounding(error)
-      type(error_type), allocatable, intent(out) :: error
-      call check_case(error, "robertson-1e11", [1.0e-12_dp], [character(len=8) :: "i-t-2"], run_budget=400000_i8, &
-         must_succeed=.true.)
-   end subroutine test_newton_at_rounding
 
    !> Every scheme at every tolerance on the case `name` (or the schemes and tolerances
    !> given, with a step budget of their own, and each run required to succeed); every

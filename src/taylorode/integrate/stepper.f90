@@ -186,8 +186,6 @@ contains
       !> status_out_of_memory when the work arrays cannot be allocated
       type(status_type), intent(inout) :: stat
       character(len=*), parameter :: what = "the stepper's work arrays"
-      ! the tolerance Newton's fraction of the weights is chosen for
-      real(dp) :: tolerance
       call sized(self%u_new, n, what, stat)
       call sized(self%delta, n, what, stat)
       call sized(self%weights, n, what, stat)
@@ -260,23 +258,16 @@ contains
       if (self%controller == controller_auto) then
          self%controller = merge(controller_predictive, controller_i, scheme%predictive_control)
       end if
-      if (options%rtol > 0.0_dp) then
-         tolerance = options%rtol
-      else if (allocated(options%atol_vector)) then
-         tolerance = maxval(options%atol_vector)
-      else
-         tolerance = options%atol
-      end if
       self%newton_fraction = options%newton_fraction
-      if (self%newton_fraction == 0.0_dp) &
-         self%newton_fraction = scheme%newton_fraction(tolerance, options%newton_error_estimate)
-      ! Newton's stop at its floor of 10 roundings of the state, where that is 10 times the
-      ! fraction the tolerance asks for (sqrt(tol), so that what Newton leaves adds up to
-      ! about a tolerance over a second-order scheme's steps): tol <= eps^(2/3), 3.7e-11.
-      ! A contraction measured from increments of that size let i-t-2 stop short there,
-      ! its leftovers adding up to 2,500 tolerances at 1e-12 on Robertson (to t = 1e6)
-      self%newton%tolerance_at_rounding = tolerance <= epsilon(1.0_dp)**(2.0_dp/3.0_dp)
-      self%newton_whole%tolerance_at_rounding = self%newton%tolerance_at_rounding
+      if (self%newton_fraction == 0.0_dp) then
+         if (options%rtol > 0.0_dp) then
+            self%newton_fraction = scheme%newton_fraction(options%rtol, options%newton_error_estimate)
+         else if (allocated(options%atol_vector)) then
+            self%newton_fraction = scheme%newton_fraction(maxval(options%atol_vector), options%newton_error_estimate)
+         else
+            self%newton_fraction = scheme%newton_fraction(options%atol, options%newton_error_estimate)
+         end if
+      end if
       ! the single step's Newton error enters the extrapolated state divided by 2^p - 1:
       ! kept factorizations left it one sign step after step, 0.1 of the weights each
       ! (i-t-2 on Robertson at 1e-10: 690 tolerances off at t = 1e6)

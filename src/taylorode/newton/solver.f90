@@ -66,11 +66,6 @@ module taylorode_newton_solver
       !> of a matrix built in this solve is not accepted alone); off:
       !> when the last increment is, with a second iteration whenever the matrix was kept
       logical :: estimate_error = .true.
-      !> Whether the tolerance is within a few roundings of the state (RADAU5's FNEWT at
-      !> its floor, 10 eps/rtol): increments of that size are mostly the residual's
-      !> rounding, and a contraction measured from them says little; the error left is
-      !> then taken to be at least the last increment
-      logical :: tolerance_at_rounding = .false.
       !> Newton matrices with every term of the equation's derivative (i-t-2: the second
       !> derivatives of F along F); off: the paper's matrices, which omit them
       logical :: exact_matrix = .true.
@@ -434,7 +429,6 @@ contains
                ! an increment that did not contract estimates nothing either
                estimated = contraction < 1.0_dp
                if (estimated) error_factor = contraction/(1.0_dp - contraction)
-               if (settings%tolerance_at_rounding) error_factor = max(error_factor, 1.0_dp)
             end if
             ! an increment within the rounding of the iterate cannot be resolved further
             if (below_rounding .and. size_now <= 1.0_dp) then
