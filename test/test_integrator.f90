@@ -1198,7 +1198,8 @@ contains
    !> max_newton_iterations = 1: radau5 integrates u' = -u over [0, 1] with it; the other
    !> implicit schemes refuse it, as their Newton takes no first increment of a matrix it
    !> has just built alone (they ran, no solve converged, the step fell to 1e-15 and the
-   !> step budget ran out at t = 1e-9; an outside audit); 2 they take.
+   !> step budget ran out at t = 1e-9; an outside audit); 2 they take. With g declared
+   !> linear, si-t-1 and imex-rk21, implicit in g alone, solve in one iteration and take 1.
    subroutine test_one_newton_iteration(error)
       type(error_type), allocatable, intent(out) :: error
       type(linear_decay_problem) :: problem
@@ -1222,6 +1223,15 @@ contains
             if (allocated(error)) return
             options%max_newton_iterations = 2
             call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+         end if
+         if (scheme%newton_linear_in_g) then
+            call check(error, stat%code, status_ok, trim(scheme_names(k))//" with 2 iterations: "//stat_message(stat))
+            if (allocated(error)) return
+            problem%linear_g = .true.
+            options%max_newton_iterations = 1
+            u = [1.0_dp]
+            call integrate(problem, scheme, 0.0_dp, 1.0_dp, u, options, stats, stat)
+            problem%linear_g = .false.
          end if
          call check(error, stat%code, status_ok, trim(scheme_names(k))//": "//stat_message(stat))
          if (allocated(error)) return

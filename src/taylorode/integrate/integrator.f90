@@ -225,7 +225,7 @@ contains
       type(status_type), intent(out) :: stat
       type(counters_type) :: work_before
       real(dp) :: size_u, size_f
-      character(len=200) :: refusal
+      character(len=300) :: refusal
 
       self%ready = .false.
       ! the last accepted step of an earlier integration does not precede the first of this one
@@ -263,10 +263,12 @@ contains
          return
       end if
       if (scheme%implicit .and. options%max_newton_iterations > 0 .and. &
-         options%max_newton_iterations < scheme%least_newton_iterations) then
+         options%max_newton_iterations < scheme%least_newton_iterations .and. &
+         .not. (problem%linear_g .and. scheme%newton_linear_in_g)) then
          ! (else no solve could converge: the step fell to roundoff, the budget ran out)
          write (refusal, '("integrate: max_newton_iterations must be at least ", i0, " for ", a, &
-            &" (its Newton takes no first increment of a new matrix alone), or 0 for the scheme''s own")') &
+            &" (its Newton takes no first increment of a new matrix alone; 1 only with g linear for a scheme &
+            &implicit in g alone), or 0 for the scheme''s own")') &
             scheme%least_newton_iterations, scheme%name
          call set_status(stat, status_invalid_argument, trim(refusal))
          return

@@ -76,6 +76,7 @@ contains
       self%nonlinear_order = 2
       self%embedded_order = 1
       self%implicit = .true.
+      self%newton_linear_in_g = .true.
       self%update = "Y1 = U0 + h gamma g(Y1); Y2 = U0 + h c f(Y1) + h [(1-gamma) g(Y1) + gamma g(Y2)]; "// &
          "U1 = U0 + h [(1-gamma) F(Y1) + gamma F(Y2)]"
       self%newton_matrices = "I - h gamma J_g (one for both stages)"

@@ -80,6 +80,9 @@ module taylorode_schemes_scheme
       !> library's Newton, which takes no first increment of a matrix it has just built
       !> alone; radau5's own iteration 1
       integer :: least_newton_iterations = 2
+      !> Whether its Newton systems are linear when g is (problem%linear_g): implicit in g
+      !> alone (si-t-1, imex-rk21), one iteration with the exact matrix solves them
+      logical :: newton_linear_in_g = .false.
       !> Whether `step_error` estimates the local error of the step just taken (the
       !> second-order Taylor schemes: their filtered trapezoidal defect)
       logical :: estimates_step_error = .false.

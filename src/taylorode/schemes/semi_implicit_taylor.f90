@@ -145,6 +145,7 @@ contains
          self%partner = si_t_2
          self%embedded_order = 2
          self%update = "U1 = U0 + h (f0 + g(U1))"
+         self%newton_linear_in_g = .true.
          self%start_only_part = difference_f
          self%newton_matrices = "I - h J_g(U1)"
       case (si_t_2_paper)
