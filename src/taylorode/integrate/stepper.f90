@@ -229,10 +229,7 @@ contains
       if (stat%code /= status_ok) return
       self%newton%kept_factorizations = merge(2, 1, self%estimate == estimate_doubling)
       self%newton_whole%kept_factorizations = self%newton%kept_factorizations
-      if (self%estimate == estimate_doubling) then
-         self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
-         self%whole_newton_fraction = 0.1_dp/self%richardson
-      end if
+      if (self%estimate == estimate_doubling) self%richardson = 1.0_dp/(2.0_dp**scheme%nonlinear_order - 1.0_dp)
       self%q = options%q
       if (self%q == 0.0_dp) then
          if (self%estimate == estimate_doubling .or. self%estimate == estimate_defect) then
@@ -268,11 +265,15 @@ contains
             self%newton_fraction = scheme%newton_fraction(options%atol, options%newton_error_estimate)
          end if
       end if
-      ! the single step's Newton error enters the extrapolated state divided by 2^p - 1:
-      ! kept factorizations left it one sign step after step, 0.1 of the weights each
-      ! (i-t-2 on Robertson at 1e-10: 690 tolerances off at t = 1e6)
-      if (self%estimate == estimate_doubling .and. options%local_extrapolation) &
-         self%whole_newton_fraction = min(0.1_dp, whole_to_halves*self%newton_fraction)/self%richardson
+      ! the single step's Newton error enters err divided by 2^p - 1, and with local
+      ! extrapolation the state too: there kept factorizations left it one sign step after
+      ! step, 0.1 of the weights each (i-t-2 on Robertson at 1e-10: 690 tolerances off at
+      ! t = 1e6), so it is then held to whole_to_halves times the halves' fraction
+      if (self%estimate == estimate_doubling) then
+         self%whole_newton_fraction = 0.1_dp/self%richardson
+         if (options%local_extrapolation) &
+            self%whole_newton_fraction = min(0.1_dp, whole_to_halves*self%newton_fraction)/self%richardson
+      end if
    end subroutine start
 
    !> w_i = atol_i + rtol_i * max(|a_i|, |b_i|) (or the options' own error weights), at
