@@ -142,8 +142,6 @@ module taylorode_newton_solver
       procedure :: forget
       !> x = M^(-1) x with the Newton matrix the last solve used
       procedure :: apply_inverse
-      !> x = M^(-1) x with the factors of one kept factorization
-      procedure, private :: solve_linear
    end type newton_solver_type
 
    abstract interface
@@ -254,7 +252,7 @@ contains
       type(counters_type), intent(inout) :: counters
       !> status_invalid_argument when there are no factors
       type(status_type), intent(inout) :: stat
-      call self%solve_linear(self%last_slot, x, stat)
+      call solve_linear(self, self%last_slot, x, stat)
       counters%linear_solves = counters%linear_solves + 1
    end subroutine apply_inverse
 
@@ -314,7 +312,7 @@ contains
       type(status_type), intent(inout) :: stat
 
       integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, known, fresh, first, below_rounding, estimated, finite
+      logical :: rebuild, known, fresh, first, estimated, finite
       real(dp) :: size_now, size_before, contraction, error_factor, residual_largest
 
       n = size(settings%tolerance)
@@ -374,11 +372,11 @@ contains
             if (stat%code /= status_ok) return
             rebuild = .false.
          end if
-         call self%solve_linear(slot, self%increment, stat)
+         call solve_linear(self, slot, self%increment, stat)
          counters%linear_solves = counters%linear_solves + 1
          if (stat%code /= status_ok) return
          ! the update and the size of the increment in the tolerances
-         call add_increment(m, self%increment, self%inverse_tolerance, u, size_now, below_rounding, finite)
+         call add_increment(m, self%increment, self%inverse_tolerance, u, size_now, finite)
          if (.not. finite) then
             call set_code(stat, status_newton_diverged)
             self%kept(slot)%linear%factored = .false.
@@ -431,9 +429,12 @@ contains
                if (estimated) error_factor = contraction/(1.0_dp - contraction)
             end if
             ! an increment within the rounding of the iterate cannot be resolved further
-            if (below_rounding .and. size_now <= 1.0_dp) then
-               estimated = .true.
-               error_factor = min(error_factor, 1.0_dp)
+            ! (looked at only where it changes the verdict)
+            if (size_now <= 1.0_dp .and. (.not. estimated .or. error_factor > 1.0_dp)) then
+               if (within_rounding(m, self%increment, self%inverse_tolerance, u)) then
+                  estimated = .true.
+                  error_factor = min(error_factor, 1.0_dp)
+               end if
             end if
             if (estimated .and. error_factor*size_now <= 1.0_dp) then
                if (propagation_within(error_factor)) then
@@ -451,9 +452,8 @@ contains
          ! rebuild on poor contraction, or when at this rate the iteration limit
          ! would come before convergence
          if (known .and. contraction > refresh_contraction) rebuild = .true.
-         if (known .and. .not. first .and. contraction < 1.0_dp) then
-            if (size_now*contraction**(settings%max_iterations - iteration)/(1.0_dp - contraction) &
-               > 1.0_dp) rebuild = .true.
+         if (known .and. .not. first .and. contraction < 1.0_dp .and. .not. rebuild) then
+            if (too_slow(size_now, contraction, settings%max_iterations - iteration)) rebuild = .true.
          end if
          size_before = size_now
       end do
@@ -511,7 +511,7 @@ contains
          propagation_within = .true.
          if (.not. propagates) return
          if (factor*weighted_size(self%propagated) <= 1.0_dp) return
-         call self%solve_linear(slot, self%propagated, stat)
+         call solve_linear(self, slot, self%propagated, stat)
          counters%linear_solves = counters%linear_solves + 1
          propagation_within = factor*weighted_size(self%propagated) <= 1.0_dp .and. stat%code == status_ok
       end function propagation_within
@@ -529,7 +529,7 @@ contains
          call negate_finite(m, self%increment, residual_finite, largest)
          if (.not. (residual_finite .and. largest > 0.0_dp)) return
          self%increment(1:m) = scale(self%increment(1:m), -exponent(largest))
-         call self%solve_linear(slot, self%increment, stat)
+         call solve_linear(self, slot, self%increment, stat)
          counters%linear_solves = counters%linear_solves + 1
          if (stat%code /= status_ok) return
          correction_underflows = any(self%increment(1:m) /= 0.0_dp)
@@ -579,35 +579,59 @@ contains
       finite = .true.
    end subroutine negate_finite
 
+   !> Whether an iteration that contracts by `contraction` (0 <= contraction < 1) from an
+   !> increment of size_now leaves more than 1 after `remaining` more iterations:
+   !> size_now contraction**remaining / (1 - contraction) > 1. The rounded power of a
+   !> contraction below 1 is at most the contraction itself, so that the power (a call)
+   !> is taken only when the first factor does not decide already.
+   pure logical function too_slow(size_now, contraction, remaining)
+      real(dp), intent(in) :: size_now, contraction
+      integer, intent(in) :: remaining
+      too_slow = .false.
+      if (remaining >= 1 .and. size_now*contraction/(1.0_dp - contraction) <= 1.0_dp) return
+      too_slow = size_now*contraction**remaining/(1.0_dp - contraction) > 1.0_dp
+   end function too_slow
+
    !> u = u + increment, entry by entry, stopping at the first u_i that is not finite
-   !> (finite false); size_now = max_i |increment_i| / tolerance_i, below_rounding whether
-   !> every |increment_i| is within rounding_ulps ulps of |u_i| or of tolerance_i (a
-   !> component at 0 has no ulps to speak of: HIRES's second from its start, whose
-   !> increments of 1e-41, 1e-28 of its tolerance, kept i-t-1's Newton for its error
-   !> estimate from ending at every step size) (explicit-shape, as negate_finite).
-   pure subroutine add_increment(m, increment, inverse_tolerance, u, size_now, below_rounding, finite)
+   !> (finite false); size_now = max_i |increment_i| / tolerance_i (explicit-shape, as
+   !> negate_finite).
+   pure subroutine add_increment(m, increment, inverse_tolerance, u, size_now, finite)
       integer, intent(in) :: m
       real(dp), intent(in) :: increment(m), inverse_tolerance(m)
       ! assumed-shape: the caller's state is passed as it is (an explicit-shape dummy
       ! would have it copied in and out wherever it is not known to be contiguous)
       real(dp), intent(inout) :: u(:)
       real(dp), intent(out) :: size_now
-      logical, intent(out) :: below_rounding, finite
+      logical, intent(out) :: finite
       integer :: i
-      real(dp) :: weighted
       size_now = 0.0_dp
-      below_rounding = .true.
       finite = .false.
       !GCC$ unroll 1
       do i = 1, m
          u(i) = u(i) + increment(i)
-         weighted = abs(increment(i))*inverse_tolerance(i)
-         below_rounding = below_rounding .and. (abs(increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i)) &
-            .or. weighted <= rounding_ulps*epsilon(1.0_dp))
          if (.not. ieee_is_finite(u(i))) return
-         size_now = max(size_now, weighted)
+         size_now = max(size_now, abs(increment(i))*inverse_tolerance(i))
       end do
       finite = .true.
    end subroutine add_increment
+
+   !> Whether every |increment_i| of the increment just added to u is within rounding_ulps
+   !> ulps of |u_i| or of tolerance_i (a component at 0 has no ulps to speak of: HIRES's
+   !> second from its start, whose increments of 1e-41, 1e-28 of its tolerance, kept
+   !> i-t-1's Newton for its error estimate from ending at every step size)
+   !> (explicit-shape, as negate_finite).
+   pure logical function within_rounding(m, increment, inverse_tolerance, u)
+      integer, intent(in) :: m
+      real(dp), intent(in) :: increment(m), inverse_tolerance(m)
+      real(dp), intent(in) :: u(:)
+      integer :: i
+      within_rounding = .false.
+      !GCC$ unroll 1
+      do i = 1, m
+         if (.not. (abs(increment(i)) <= rounding_ulps*epsilon(1.0_dp)*abs(u(i)) &
+            .or. abs(increment(i))*inverse_tolerance(i) <= rounding_ulps*epsilon(1.0_dp))) return
+      end do
+      within_rounding = .true.
+   end function within_rounding
 
 end module taylorode_newton_solver
