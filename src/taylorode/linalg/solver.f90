@@ -182,23 +182,25 @@ contains
       if (info /= 0) call set_code(stat, status_invalid_argument)
    end subroutine solve
 
-   !> x = the first half of A^(-1) [x; 0] for a stacked matrix A of order 2 size(x), its
-   !> rows interleaved as `stacked_structure` orders them (x_i at row 2i - 1, 0 at row 2i).
+   !> x = the first half of A^(-1) [x; 0] for a stacked matrix A of order 2m, its rows
+   !> interleaved as `stacked_structure` orders them (x_i at row 2i - 1, 0 at row 2i).
    !> Dense stacked matrices of up to `small_lu_max_order` rows take [x; 0] in a local
    !> array and go straight to the written-out solve; the others go through `work`.
-   subroutine solve_stacked(self, x, work, stat)
+   !> (x is explicit-shape: on a few unknowns its descriptor cost more than the loops.)
+   subroutine solve_stacked(self, m, x, work, stat)
       !> The solver, factored
       class(linear_solver_type), intent(in) :: self
+      !> Unknowns (half the order of the stacked matrix)
+      integer, intent(in) :: m
       !> The first half of the right-hand side on entry (the second is zero), of the
       !> solution on exit
-      real(dp), contiguous, intent(inout) :: x(:)
-      !> Room for the whole right-hand side and solution (2 size(x) entries)
+      real(dp), intent(inout) :: x(m)
+      !> Room for the whole right-hand side and solution (2m entries)
       real(dp), contiguous, intent(inout) :: work(:)
       !> status_invalid_argument (code only) when there are no factors or a size is wrong
       type(status_type), intent(inout) :: stat
       real(dp) :: b(small_lu_max_order)
-      integer :: i, m
-      m = size(x)
+      integer :: i
       if (2*m <= small_lu_max_order .and. self%factored .and. self%matrix%n == 2*m) then
          select type (a => self%matrix)
          type is (dense_matrix_type)

@@ -268,7 +268,7 @@ contains
       !> status_invalid_argument when there are no factors
       type(status_type), intent(inout) :: stat
       if (self%stacked) then
-         call self%kept(slot)%linear%solve_stacked(x, self%stacked_vector, stat)
+         call self%kept(slot)%linear%solve_stacked(size(x), x, self%stacked_vector, stat)
       else
          call self%kept(slot)%linear%solve(x, stat)
       end if
@@ -311,19 +311,12 @@ contains
       !> Outcome (singular matrix, divergence or no convergence)
       type(status_type), intent(inout) :: stat
 
-      integer :: iteration, least_iterations, i, k, n, m, slot
-      logical :: rebuild, known, fresh, first, estimated, finite
+      integer :: iteration, least_iterations, m, slot
+      logical :: rebuild, known, fresh, first, estimated, finite, solved
       real(dp) :: size_now, size_before, contraction, error_factor, residual_largest
 
-      n = size(settings%tolerance)
       m = size(u)
-      ! a system that stacks several copies of the state uses its tolerances for each
-      k = 0
-      do i = 1, m
-         k = k + 1
-         if (k > n) k = 1
-         self%inverse_tolerance(i) = 1.0_dp/settings%tolerance(k)
-      end do
+      call invert_tolerances(m, size(settings%tolerance), settings%tolerance, self%inverse_tolerance)
       call choose_factorization(slot, rebuild, stat)
       if (stat%code /= status_ok) return
       self%solves = self%solves + 1
@@ -345,6 +338,7 @@ contains
       estimated = .true.
       size_before = huge(1.0_dp)
       fresh = .false.
+      solved = .false.
       do iteration = 1, settings%max_iterations
          call system%residual(problem, u, self%increment, counters)
          counters%newton_iterations = counters%newton_iterations + 1
@@ -402,13 +396,13 @@ contains
          known = size_before > 0.0_dp
          ! a linear system with a matrix exact for this step is solved (up to roundoff)
          if (system%linear .and. self%kept(slot)%h_built == h) then
-            call converged()
-            return
+            solved = .true.
+            exit
          end if
          if (.not. settings%estimate_error .and. size_now <= 1.0_dp .and. iteration >= least_iterations) then
             if (propagation_within(1.0_dp)) then
-               call converged()
-               return
+               solved = .true.
+               exit
             end if
             if (stat%code /= status_ok) return
          end if
@@ -438,8 +432,8 @@ contains
             end if
             if (estimated .and. error_factor*size_now <= 1.0_dp) then
                if (propagation_within(error_factor)) then
-                  call converged()
-                  return
+                  solved = .true.
+                  exit
                end if
                if (stat%code /= status_ok) return
             end if
@@ -457,8 +451,19 @@ contains
          end if
          size_before = size_now
       end do
-      self%kept(slot)%linear%factored = .false.
-      call set_code(stat, status_newton_not_converged)
+      if (.not. solved) then
+         self%kept(slot)%linear%factored = .false.
+         call set_code(stat, status_newton_not_converged)
+         return
+      end if
+      ! the contraction of the last two increments (0 after one iteration, huge when it
+      ! is unknown), kept for the decision to reuse the factors
+      self%last_contraction = 0.0_dp
+      if (iteration > 1) then
+         self%last_contraction = huge(1.0_dp)
+         if (known) self%last_contraction = size_now/size_before
+      end if
+      self%kept(slot)%contraction = self%last_contraction
 
    contains
 
@@ -546,18 +551,24 @@ contains
          end do
       end function weighted_size
 
-      !> Keep the contraction of the last two increments (0 after one iteration, huge
-      !> when it is unknown) for the decision to reuse the factors.
-      subroutine converged()
-         self%last_contraction = 0.0_dp
-         if (iteration > 1) then
-            self%last_contraction = huge(1.0_dp)
-            if (known) self%last_contraction = size_now/size_before
-         end if
-         self%kept(slot)%contraction = self%last_contraction
-      end subroutine converged
-
    end subroutine solve
+
+   !> inverse(i) = 1 / tolerance(k) for the m unknowns of a system, k running through
+   !> the n tolerances again for each copy of the state a system stacks (explicit-shape,
+   !> as negate_finite).
+   pure subroutine invert_tolerances(m, n, tolerance, inverse)
+      integer, intent(in) :: m, n
+      real(dp), intent(in) :: tolerance(n)
+      real(dp), intent(out) :: inverse(m)
+      integer :: i, k
+      k = 0
+      !GCC$ unroll 1
+      do i = 1, m
+         k = k + 1
+         if (k > n) k = 1
+         inverse(i) = 1.0_dp/tolerance(k)
+      end do
+   end subroutine invert_tolerances
 
    !> v = -v, stopping at the first entry that is not finite (finite false), and the
    !> largest |v_i|; explicit-shape so that the loop does not reload the solver's
