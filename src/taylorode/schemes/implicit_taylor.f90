@@ -185,10 +185,16 @@ contains
       type(status_type), intent(inout) :: stat
       real(dp), intent(out), optional :: delta(:)
       real(dp), intent(in), optional :: guess(:)
+      integer :: i
 
       self%system%t1 = t + h
       self%system%h = h
-      self%system%u0(:) = u0
+      ! (the copies below are loops not unrolled: on a few unknowns the unrolled loops'
+      ! entries cost more than the copies)
+      !GCC$ unroll 1
+      do i = 1, size(u0)
+         self%system%u0(i) = u0(i)
+      end do
       self%system%order = self%order
       self%system%second_derivatives = newton%exact_matrix
       ! F at the start: kept from the last defect check when this step starts there
@@ -197,19 +203,31 @@ contains
       if (present(guess)) then
          u1 = guess
       else
-         u1 = u0
+         !GCC$ unroll 1
+         do i = 1, size(u0)
+            u1(i) = u0(i)
+         end do
       end if
       call self%newton(self%order)%solve(self%system, problem, h, newton, u1, self%counters, stat)
       if (stat%code /= status_ok .or. .not. present(delta)) return
 
       self%system%order = self%embedded_order
-      delta = u1
+      !GCC$ unroll 1
+      do i = 1, size(u1)
+         delta(i) = u1(i)
+      end do
       call self%newton(self%embedded_order)%solve(self%system, problem, h, newton, delta, self%counters, stat)
       if (stat%code /= status_ok) return
       if (self%order == 2) then
-         delta = u1 - delta
+         !GCC$ unroll 1
+         do i = 1, size(u1)
+            delta(i) = u1(i) - delta(i)
+         end do
       else
-         delta = delta - u1
+         !GCC$ unroll 1
+         do i = 1, size(u1)
+            delta(i) = delta(i) - u1(i)
+         end do
       end if
    end subroutine implicit_taylor_advance
 
