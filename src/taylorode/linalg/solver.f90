@@ -144,6 +144,7 @@ contains
       real(dp), intent(in) :: a(:, :)
       integer :: k
       finite_diagonal = .false.
+      !GCC$ unroll 1
       do k = 1, size(a, 1)
          if (.not. ieee_is_finite(a(k, k))) return
       end do

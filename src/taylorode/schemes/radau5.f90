@@ -575,7 +575,11 @@ contains
       self%have_stages = .true.
       if (present(delta)) then
          call estimate_error(self, problem, t, h, stat)
-         delta = self%w(:, 1)
+         ! (a loop: the assignment's copy is unrolled, which costs more on a few unknowns)
+         !GCC$ unroll 1
+         do i = 1, n
+            delta(i) = self%w(i, 1)
+         end do
       end if
 
    contains
@@ -590,8 +594,7 @@ contains
          if (new_step) then
             if (self%have_stages) then
                ! the last successful attempt was accepted: its polynomial predicts this step
-               call collocation_polynomial(self%z(:, 1), self%z(:, 2), self%z(:, 3), self%polynomial(:, 1), &
-                  self%polynomial(:, 2), self%polynomial(:, 3))
+               call stage_polynomial(n, self%z, self%polynomial)
                self%h_polynomial = self%h_stages
                self%have_polynomial = .true.
             end if
@@ -853,7 +856,7 @@ contains
       logical, intent(in) :: adaptive
       type(status_type), intent(inout) :: stat
 
-      integer :: n, i, s, newt, limit
+      integer :: n, i, newt, limit
       real(dp) :: fac1, alphn, betan
       real(dp) :: dyno, dynold, thq, thqold, dyth, magnitude, stage_time(3)
       real(dp), contiguous, pointer :: u0(:), z(:, :), w(:, :), r(:, :), stage(:), wm(:, :)
@@ -900,11 +903,14 @@ contains
          end if
          ! F = f + g at the three stages (the problem's rhs, called directly), each into
          ! its stage's column of z once the stage state is formed (in `stage`, formed
-         ! anew for each: the problem may overwrite it)
-         do s = 1, 3
-            call add_vectors(n, u0, z(:, s), stage)
-            call problem%rhs_scratch(n, stage_time(s), stage, r(:, s))
-         end do
+         ! anew for each: the problem may overwrite it); written out, as radau5.f's: a
+         ! loop of three trips spilled its registers around each call
+         call add_vectors(n, u0, z(:, 1), stage)
+         call problem%rhs_scratch(n, stage_time(1), stage, r(:, 1))
+         call add_vectors(n, u0, z(:, 2), stage)
+         call problem%rhs_scratch(n, stage_time(2), stage, r(:, 2))
+         call add_vectors(n, u0, z(:, 3), stage)
+         call problem%rhs_scratch(n, stage_time(3), stage, r(:, 3))
          self%counters%f_evaluations = self%counters%f_evaluations + 3
          self%counters%g_evaluations = self%counters%g_evaluations + 3
          if (problem%evaluation_rejected()) then
@@ -1011,6 +1017,23 @@ contains
       a3 = a2 - acont3
    end subroutine collocation_polynomial
 
+   !> The collocation polynomial of the stage increments z into polynomial (explicit-shape,
+   !> as newton_right_hand_sides: on a few unknowns the elemental call's unrolled loop over
+   !> array sections of the scheme's components cost more than its arithmetic).
+   pure subroutine stage_polynomial(n, z, polynomial)
+      !> Unknowns
+      integer, intent(in) :: n
+      !> The stage increments
+      real(dp), intent(in) :: z(n, 3)
+      !> The polynomial's coefficient columns
+      real(dp), intent(out) :: polynomial(n, 3)
+      integer :: i
+      !GCC$ unroll 1
+      do i = 1, n
+         call collocation_polynomial(z(i, 1), z(i, 2), z(i, 3), polynomial(i, 1), polynomial(i, 2), polynomial(i, 3))
+      end do
+   end subroutine stage_polynomial
+
    !> delta = ((gamma/h) I - J)^(-1) [F(t0, U0) + (d1 Z1 + d2 Z2 + d3 Z3)/h] (M times the
    !> stage part with a mass matrix; the stage part kept for a filtered estimate).
    subroutine estimate_error(self, problem, t, h, stat)
@@ -1035,20 +1058,38 @@ contains
                stage_part(i) = 0.0_dp
             end do
             call add_mass_product(self, 1, self%stage, stage_part)
+            call add_vectors(self%n, stage_part, self%rhs0, estimate)
          else
-            !GCC$ unroll 1
-            do i = 1, self%n
-               stage_part(i) = hee1*self%z(i, 1) + hee2*self%z(i, 2) + hee3*self%z(i, 3)
-            end do
+            call estimate_right_side(self%n, hee1, hee2, hee3, self%z, self%rhs0, stage_part, estimate)
          end if
-         !GCC$ unroll 1
-         do i = 1, self%n
-            estimate(i) = stage_part(i) + self%rhs0(i)
-         end do
          call solve_real(self, estimate, stat)
       end associate
       self%counters%linear_solves = self%counters%linear_solves + 1
    end subroutine estimate_error
+
+   !> The error estimate's right-hand side without a mass matrix: its stage part
+   !> hee1 Z1 + hee2 Z2 + hee3 Z3 and that plus F(t0, U0) (explicit-shape, as
+   !> newton_right_hand_sides).
+   pure subroutine estimate_right_side(n, hee1, hee2, hee3, z, rhs0, stage_part, estimate)
+      !> Unknowns
+      integer, intent(in) :: n
+      !> The weights d_i/h of the stage increments
+      real(dp), intent(in) :: hee1, hee2, hee3
+      !> The stage increments
+      real(dp), intent(in) :: z(n, 3)
+      !> F(t0, U0)
+      real(dp), intent(in) :: rhs0(n)
+      !> The stage part, and the right-hand side
+      real(dp), intent(out) :: stage_part(n), estimate(n)
+      real(dp) :: part
+      integer :: i
+      !GCC$ unroll 1
+      do i = 1, n
+         part = hee1*z(i, 1) + hee2*z(i, 2) + hee3*z(i, 3)
+         stage_part(i) = part
+         estimate(i) = part + rhs0(i)
+      end do
+   end subroutine estimate_right_side
 
    !> F(t, U0) at the start of the step into rhs0, unless it is there already (kept
    !> only when the problem accepted the evaluation).
