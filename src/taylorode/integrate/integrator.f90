@@ -407,7 +407,7 @@ contains
       real(dp) :: step_limit
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
-      integer :: failures, troubles, singular, outcome, next_output, last_failure
+      integer :: failures, troubles, singular, outcome, next_output, last_failure, i
       logical :: last, need_step, stop_here, rhs_pending, prebuilt
       ! the end of the attempted step: t + h, or the target or an output time it lands on
       real(dp) :: t_step_end
@@ -555,7 +555,11 @@ contains
                t_low = 0.0_dp
                u = self%step%u_end
             else
-               u = self%stepper%u_new
+               ! (not unrolled: on a few unknowns the unrolled copy's entry costs more than it)
+               !GCC$ unroll 1
+               do i = 1, self%n
+                  u(i) = self%stepper%u_new(i)
+               end do
                t = t_step_end
                t_low = t_low_end
             end if

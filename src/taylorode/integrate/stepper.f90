@@ -340,18 +340,92 @@ contains
       real(dp), intent(out) :: weights(n)
       !> Set when a weight was raised to the roundoff floor (else unchanged)
       logical, intent(inout) :: raised
-      real(dp) :: size_i, weight
       integer :: i
       do i = 1, n
-         size_i = max(abs(a(i)), abs(b(i)))
-         weight = atol + rtol*size_i
-         if (weight < roundoff_weight*size_i) then
-            weight = roundoff_weight*size_i
-            raised = .true.
-         end if
-         weights(i) = weight
+         call scalar_weight(atol, rtol, max(abs(a(i)), abs(b(i))), weights(i), raised)
       end do
    end subroutine scalar_tolerance_weights
+
+   !> One weight of scalar tolerances: atol + rtol size_i, at least roundoff_weight
+   !> size_i (raised set when it was raised).
+   pure subroutine scalar_weight(atol, rtol, size_i, weight, raised)
+      !> The scalar tolerances
+      real(dp), intent(in) :: atol, rtol
+      !> max(|a_i|, |b_i|) of the two states
+      real(dp), intent(in) :: size_i
+      !> The weight
+      real(dp), intent(out) :: weight
+      !> Set when the weight was raised to the roundoff floor (else unchanged)
+      logical, intent(inout) :: raised
+      weight = atol + rtol*size_i
+      if (weight < roundoff_weight*size_i) then
+         weight = roundoff_weight*size_i
+         raised = .true.
+      end if
+   end subroutine scalar_weight
+
+   !> scalar_tolerance_weights at u alone and Newton's tolerances from them
+   !> (newton_tolerances) in one pass (not unrolled: on a few unknowns the unrolled
+   !> loop's entry costs more than the pass).
+   pure subroutine scalar_weights_and_tolerances(n, atol, rtol, fraction, u, weights, tolerance, raised)
+      !> Unknowns (of this process)
+      integer, intent(in) :: n
+      !> The scalar tolerances
+      real(dp), intent(in) :: atol, rtol
+      !> Fraction of the weights given to Newton
+      real(dp), intent(in) :: fraction
+      !> The state at the start of the step (perhaps strided: the caller's)
+      real(dp), intent(in) :: u(:)
+      !> The weights
+      real(dp), intent(out) :: weights(n)
+      !> Newton's tolerances
+      real(dp), intent(out) :: tolerance(n)
+      !> Set when a weight was raised to the roundoff floor (else unchanged)
+      logical, intent(inout) :: raised
+      integer :: i
+      !GCC$ unroll 1
+      do i = 1, n
+         call scalar_weight(atol, rtol, abs(u(i)), weights(i), raised)
+         tolerance(i) = newton_tolerance(fraction, weights(i), u(i))
+      end do
+   end subroutine scalar_weights_and_tolerances
+
+   !> scalar_tolerance_weights at a and b and this process's part of the weighted norm
+   !> of v in them (the largest |v_i| / w_i, or the sum of (v_i / w_i)^2) in one pass,
+   !> in the order of weighted_norm's (not unrolled, as there).
+   pure subroutine scalar_weights_and_norm(n, atol, rtol, norm, a, b, v, weights, raised, part)
+      !> Unknowns (of this process)
+      integer, intent(in) :: n
+      !> The scalar tolerances
+      real(dp), intent(in) :: atol, rtol
+      !> norm_max or norm_rms
+      integer, intent(in) :: norm
+      !> The state at the start of the step (perhaps strided: the caller's)
+      real(dp), intent(in) :: a(:)
+      !> The new state and the vector whose norm is taken (the stepper's own)
+      real(dp), intent(in) :: b(n), v(n)
+      !> The weights
+      real(dp), intent(out) :: weights(n)
+      !> Set when a weight was raised to the roundoff floor (else unchanged)
+      logical, intent(inout) :: raised
+      !> This process's largest |v_i| / w_i (norm_max) or sum of squares (norm_rms)
+      real(dp), intent(out) :: part
+      integer :: i
+      part = 0.0_dp
+      if (norm == norm_max) then
+         !GCC$ unroll 1
+         do i = 1, n
+            call scalar_weight(atol, rtol, max(abs(a(i)), abs(b(i))), weights(i), raised)
+            part = max(part, abs(v(i))/weights(i))
+         end do
+      else
+         !GCC$ unroll 1
+         do i = 1, n
+            call scalar_weight(atol, rtol, max(abs(a(i)), abs(b(i))), weights(i), raised)
+            part = part + (v(i)/weights(i))**2
+         end do
+      end if
+   end subroutine scalar_weights_and_norm
 
    !> Newton's tolerances: the fraction of the weights, but never below what roundoff
    !> allows at u, nor zero.
@@ -368,9 +442,21 @@ contains
       real(dp), intent(out) :: tolerance(n)
       integer :: i
       do i = 1, n
-         tolerance(i) = max(fraction*weights(i), newton_roundoff_floor*epsilon(1.0_dp)*abs(u(i)), tiny(1.0_dp))
+         tolerance(i) = newton_tolerance(fraction, weights(i), u(i))
       end do
    end subroutine newton_tolerances
+
+   !> One Newton tolerance: fraction weight, but never below what roundoff allows at
+   !> u_i, nor zero.
+   pure real(dp) function newton_tolerance(fraction, weight, u_i)
+      !> Fraction of the weight given to Newton
+      real(dp), intent(in) :: fraction
+      !> The error weight
+      real(dp), intent(in) :: weight
+      !> The component of the state at the start of the step
+      real(dp), intent(in) :: u_i
+      newton_tolerance = max(fraction*weight, newton_roundoff_floor*epsilon(1.0_dp)*abs(u_i), tiny(1.0_dp))
+   end function newton_tolerance
 
    !> Max or RMS norm of v / w (over every process that holds a part of v).
    real(dp) function weighted_norm(self, problem, options, v)
@@ -391,15 +477,32 @@ contains
          do i = 1, size(v)
             weighted_norm = max(weighted_norm, abs(v(i))/self%weights(i))
          end do
-         weighted_norm = reduced_max(problem, weighted_norm)
       else
          !GCC$ unroll 1
          do i = 1, size(v)
             weighted_norm = weighted_norm + (v(i)/self%weights(i))**2
          end do
-         weighted_norm = reduced_root_mean_square(problem, weighted_norm, size(v))
       end if
+      weighted_norm = collective_norm(problem, options%norm, weighted_norm, size(v))
    end function weighted_norm
+
+   !> The weighted norm over every process from this process's part (its largest
+   !> |v_i| / w_i, or its sum of squares over n components).
+   real(dp) function collective_norm(problem, norm, part, n)
+      !> The problem (its `reduce`)
+      class(ode_problem), intent(inout) :: problem
+      !> norm_max or norm_rms
+      integer, intent(in) :: norm
+      !> This process's part
+      real(dp), intent(in) :: part
+      !> This process's number of components
+      integer, intent(in) :: n
+      if (norm == norm_max) then
+         collective_norm = reduced_max(problem, part)
+      else
+         collective_norm = reduced_root_mean_square(problem, part, n)
+      end if
+   end function collective_norm
 
    !> One attempt from (t, u) with step h. The outcome is attempt_accepted (u_new holds
    !> the new state), attempt_rejected_error, attempt_rejected_constraint, attempt_failed_newton,
@@ -446,11 +549,12 @@ contains
       ! scalar tolerances in one pass here, not through set_weights: with the general
       ! weights inlined into it, its entry cost 1-2 % of an attempt on a few unknowns
       if (self%scalar_tolerances) then
-         call scalar_tolerance_weights(size(u), options%atol, options%rtol, u, u, self%weights, self%weights_raised)
+         call scalar_weights_and_tolerances(size(u), options%atol, options%rtol, self%newton_fraction, u, &
+            self%weights, self%newton%tolerance, self%weights_raised)
       else
          call self%set_weights(problem, options, u, u)
+         call newton_tolerances(size(u), self%newton_fraction, self%weights, u, self%newton%tolerance)
       end if
-      call newton_tolerances(size(u), self%newton_fraction, self%weights, u, self%newton%tolerance)
       if (self%estimate == estimate_doubling) then
          do i = 1, size(u)
             self%newton_whole%tolerance(i) = max(self%newton%tolerance(i), self%whole_newton_fraction*self%weights(i))
@@ -483,19 +587,26 @@ contains
          h_next = failure_shrink*h
          return
       end select
-      if (.not. scheme%weights_at_start) then
-         if (self%scalar_tolerances) then
-            call scalar_tolerance_weights(size(u), options%atol, options%rtol, u, self%u_new, self%weights, &
-               self%weights_raised)
-         else
-            call self%set_weights(problem, options, u, self%u_new)
+      if (.not. scheme%weights_at_start .and. self%scalar_tolerances .and. .not. allocated(options%nonnegative)) then
+         ! the weights at the new state and the error's norm in them in one pass
+         call scalar_weights_and_norm(size(u), options%atol, options%rtol, options%norm, u, self%u_new, self%delta, &
+            self%weights, self%weights_raised, err)
+         err = collective_norm(problem, options%norm, err, size(u))
+      else
+         if (.not. scheme%weights_at_start) then
+            if (self%scalar_tolerances) then
+               call scalar_tolerance_weights(size(u), options%atol, options%rtol, u, self%u_new, self%weights, &
+                  self%weights_raised)
+            else
+               call self%set_weights(problem, options, u, self%u_new)
+            end if
          end if
+         if (allocated(options%nonnegative)) then
+            call keep_nonnegative()
+            if (outcome == attempt_rejected_constraint) return
+         end if
+         err = self%weighted_norm(problem, options, self%delta)
       end if
-      if (allocated(options%nonnegative)) then
-         call keep_nonnegative()
-         if (outcome == attempt_rejected_constraint) return
-      end if
-      err = self%weighted_norm(problem, options, self%delta)
       if (err > 1.0_dp .and. scheme%refines_estimate .and. self%estimate == estimate_embedded) then
          ! the scheme's second estimate, when it has one for this attempt (radau5: RADAU5's
          ! filtered estimate at the first step and on retries)
@@ -777,9 +888,10 @@ contains
             ! status_out_of_memory, when a work array of the problem could not be allocated
             call problem%memory_failure(step_stat)
          else if (step_stat%code == status_ok) then
-            if (.not. finite(n, values)) call set_code(step_stat, status_nonfinite)
             if (present(more_values)) then
-               if (.not. finite(n, more_values)) call set_code(step_stat, status_nonfinite)
+               if (.not. finite_pair(n, values, more_values)) call set_code(step_stat, status_nonfinite)
+            else
+               if (.not. finite(n, values)) call set_code(step_stat, status_nonfinite)
             end if
          end if
          call agree_on_outcome(problem, step_stat)
@@ -846,6 +958,19 @@ contains
       end do
       finite = .true.
    end function finite
+
+   !> Whether every entry of a and of b (n each) is finite, in one pass.
+   pure logical function finite_pair(n, a, b)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: a(n), b(n)
+      integer :: i
+      finite_pair = .false.
+      !GCC$ unroll 1
+      do i = 1, n
+         if (.not. (ieee_is_finite(a(i)) .and. ieee_is_finite(b(i)))) return
+      end do
+      finite_pair = .true.
+   end function finite_pair
 
    !> Keep the last accepted step for extrapolation only if u (the state the next
    !> step starts from) is where it ended: a caller may change the state between calls.
