@@ -569,7 +569,7 @@ contains
          if (outcome == attempt_accepted .and. options%local_extrapolation) call extrapolate_step()
       else
          if (self%extrapolate) call self%extrapolate_to(h, u, self%guess)
-         call run_scheme(scheme, self%newton, t, h, u, self%u_new, self%delta)
+         call run_embedded_pair()
          if (outcome == attempt_accepted) then
             if (options%advance == advance_high .and. scheme%order < scheme%embedded_order) then
                self%u_new = self%u_new + self%delta
@@ -844,35 +844,35 @@ contains
       end subroutine estimate_step_error
 
       !> One step of `stepper_scheme` with Newton `settings` from (t_from, u_from) into
-      !> u_to (and the embedded difference when `difference` is given), started from
-      !> self%guess when extrapolating; outcome says whether it succeeded or why not.
-      subroutine run_scheme(stepper_scheme, settings, t_from, step, u_from, u_to, difference)
+      !> u_to, started from self%guess when extrapolating; outcome says whether it
+      !> succeeded or why not.
+      subroutine run_scheme(stepper_scheme, settings, t_from, step, u_from, u_to)
          class(scheme_type), intent(inout) :: stepper_scheme
          type(newton_settings_type), intent(in) :: settings
          real(dp), intent(in) :: t_from, step, u_from(:)
          ! (the stepper's own arrays: contiguous, which makes the checks of conclude cheap)
          real(dp), intent(out), contiguous :: u_to(:)
-         real(dp), intent(out), contiguous, optional :: difference(:)
          call problem%clear_rejection()
-         ! (an absent `difference` is not passed on: the code gfortran makes to forward it
-         ! loads through a null pointer, which the undefined-behaviour sanitizer reports)
-         if (present(difference)) then
-            if (self%extrapolate) then
-               call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference, &
-                  self%guess)
-            else
-               call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, difference)
-            end if
-            call conclude(size(u_to), u_to, difference)
+         if (self%extrapolate) then
+            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, guess=self%guess)
          else
-            if (self%extrapolate) then
-               call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat, guess=self%guess)
-            else
-               call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat)
-            end if
-            call conclude(size(u_to), u_to)
+            call stepper_scheme%advance(problem, t_from, step, u_from, u_to, settings, step_stat)
          end if
+         call conclude(size(u_to), u_to)
       end subroutine run_scheme
+
+      !> run_scheme's step of h from (t, u) with the embedded pair: u_new and the
+      !> embedded difference in delta (called once: compiled into attempt, without the
+      !> descriptors of a call of its own)
+      subroutine run_embedded_pair()
+         call problem%clear_rejection()
+         if (self%extrapolate) then
+            call scheme%advance(problem, t, h, u, self%u_new, self%newton, step_stat, self%delta, self%guess)
+         else
+            call scheme%advance(problem, t, h, u, self%u_new, self%newton, step_stat, self%delta)
+         end if
+         call conclude(size(u), self%u_new, self%delta)
+      end subroutine run_embedded_pair
 
       !> The outcome of what the scheme just computed (values, and more values when
       !> given), agreed on by every process: a rejected evaluation, NaN or Inf values,
