@@ -405,9 +405,11 @@ contains
       ! the longest step the scheme's solves can resolve (scheme%largest_step, which
       ! changes only after an attempt with a singular matrix)
       real(dp) :: step_limit
+      ! the roundoff of t_target: a step that ends within it of t_target ends there
+      real(dp) :: target_roundoff
       integer(i8) :: attempts, newton_before, clock_start, clock_rate, clock_end
       real(dp) :: cpu_start, cpu_end
-      integer :: failures, troubles, singular, outcome, next_output, last_failure, i
+      integer :: failures, troubles, singular, outcome, next_output, last_failure
       logical :: last, need_step, stop_here, rhs_pending, prebuilt
       ! the end of the attempted step: t + h, or the target or an output time it lands on
       real(dp) :: t_step_end
@@ -456,6 +458,7 @@ contains
       last_failure = status_ok
       trouble_end = t
       step_limit = scheme%largest_step()
+      target_roundoff = roundoff_steps*epsilon(1.0_dp)*abs(t_target)
       do while (t < t_target)
          if (attempts >= self%options%max_steps) then
             write (text, '("integrate: maximum number of steps (", i0, ") reached at t = ", a)') &
@@ -464,9 +467,9 @@ contains
             exit
          end if
          h_natural = h
-         last = t + h >= t_target - roundoff_steps*epsilon(1.0_dp)*abs(t_target)
+         last = t + h >= t_target - target_roundoff
          if (last) h = (t_target - t) - t_low
-         if (last .and. t_target - t <= roundoff_steps*epsilon(1.0_dp)*abs(t_target)) then
+         if (last .and. t_target - t <= target_roundoff) then
             ! a target within roundoff of t is where the state is, as a step that ends
             ! within roundoff of an output time ends there (no step resolves the rest; the
             ! call failed with a step-size underflow, and every later one with it)
@@ -555,11 +558,7 @@ contains
                t_low = 0.0_dp
                u = self%step%u_end
             else
-               ! (not unrolled: on a few unknowns the unrolled copy's entry costs more than it)
-               !GCC$ unroll 1
-               do i = 1, self%n
-                  u(i) = self%stepper%u_new(i)
-               end do
+               call copy_state(self%n, self%stepper%u_new, u)
                t = t_step_end
                t_low = t_low_end
             end if
@@ -945,6 +944,20 @@ contains
       end subroutine finish
 
    end subroutine advance_to
+
+   !> to = from, n entries (from contiguous, to perhaps strided: the caller's state),
+   !> copied by a loop not unrolled (on a few unknowns the unrolled copy's entry costs
+   !> more than the copy)
+   pure subroutine copy_state(n, from, to)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: from(n)
+      real(dp), intent(inout) :: to(:)
+      integer :: i
+      !GCC$ unroll 1
+      do i = 1, n
+         to(i) = from(i)
+      end do
+   end subroutine copy_state
 
    !> stats%work += counters - before.
    pure subroutine add_work(stats, counters, before)
