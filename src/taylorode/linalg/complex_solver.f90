@@ -17,7 +17,9 @@ module taylorode_linalg_complex_solver
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, storage_dense, storage_band
    use taylorode_linalg_lapack, only: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, &
-      complex_band_lu_solve, narrow_band_lu_factor, narrow_band_lu_solve, narrow_band_max_width
+      complex_band_lu_solve, narrow_band_lu_factor, narrow_band_lu_solve, narrow_band_lu_solve_pair, &
+      narrow_band_max_width
+   use taylorode_linalg_solver, only: linear_solver_type
    implicit none
    private
 
@@ -51,6 +53,8 @@ module taylorode_linalg_complex_solver
       procedure :: factor
       !> (re + i im) = (s I - J)^(-1) (re + i im), real and imaginary parts apart
       procedure :: solve_parts
+      !> x = (real solver)^(-1) x and (re + i im) = (s I - J)^(-1) (re + i im) together
+      procedure :: solve_with_real
    end type complex_solver_type
 
 contains
@@ -320,5 +324,34 @@ contains
       end do
       if (info /= 0) call set_status(stat, status_invalid_argument, "complex solver: LAPACK rejected the solve")
    end subroutine solve_parts
+
+   !> x = A^(-1) x with a real solver's factors and (re + i im) = (s I - J)^(-1) (re + i im):
+   !> for two narrow band factorizations in one pass over the rows each way
+   !> (`narrow_band_lu_solve_pair`, the same values), else one solve after the other.
+   subroutine solve_with_real(self, real_solver, x, re, im, stat)
+      !> The solver, factored
+      class(complex_solver_type), intent(inout) :: self
+      !> The real system's solver, factored
+      type(linear_solver_type), intent(in) :: real_solver
+      !> The real right-hand side on entry, the solution on exit
+      real(dp), contiguous, intent(inout) :: x(:)
+      !> Real and imaginary part of the complex right-hand side on entry, of the solution on exit
+      real(dp), contiguous, intent(inout) :: re(:), im(:)
+      !> status_invalid_argument when there are no factors or a size is wrong
+      type(status_type), intent(inout) :: stat
+      if (self%factored .and. real_solver%factored .and. size(x) == self%n .and. size(re) == self%n .and. &
+         size(im) == self%n .and. self%storage == storage_band .and. self%kl <= narrow_band_max_width) then
+         select type (a => real_solver%matrix)
+         type is (band_matrix_type)
+            if (a%n == self%n .and. a%kl <= narrow_band_max_width) then
+               call narrow_band_lu_solve_pair(a%ab, a%kl, a%ku, real_solver%pivots, real_solver%upper_width, x, &
+                  self%a, self%kl, self%ku, self%pivots, self%upper_width, re, im)
+               return
+            end if
+         end select
+      end if
+      call real_solver%solve(x, stat)
+      if (stat%code == status_ok) call self%solve_parts(re, im, stat)
+   end subroutine solve_with_real
 
 end module taylorode_linalg_complex_solver

@@ -931,8 +931,7 @@ contains
                self%small_complex, self%small_complex_pivots, self%small_complex_inverse_diagonal, &
                r(:, 1), r(:, 2), r(:, 3))
          else
-            call self%real_solver%solve(r(:, 1), stat)
-            if (stat%code == status_ok) call self%complex_solver%solve_parts(r(:, 2), r(:, 3), stat)
+            call self%complex_solver%solve_with_real(self%real_solver, r(:, 1), r(:, 2), r(:, 3), stat)
          end if
          if (stat%code /= status_ok) return
          newt = newt + 1
