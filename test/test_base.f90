@@ -6,7 +6,7 @@ module test_base
    use taylorode_base_strings, only: format_count, format_real, format_fixed, format_integer
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, small_lu_factor, &
       small_lu_solve, small_lu_solve_pair, complex_lu_factor, complex_lu_solve, narrow_band_lu_factor, &
-      narrow_band_lu_solve, complex_band_lu_factor, complex_band_lu_solve
+      narrow_band_lu_solve, narrow_band_lu_solve_pair, complex_band_lu_factor, complex_band_lu_solve
    use taylorode_base_status, only: status_type, status_ok, status_nonfinite, status_singular_matrix
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver
    use taylorode_linalg_matrix, only: matrix_type, band_matrix_type, dense_matrix_type, matrix_structure_type, &
@@ -26,6 +26,7 @@ contains
          new_unittest("number-formats", test_formats), &
          new_unittest("written-out-lu-equals-lapack", test_written_out_lu), &
          new_unittest("written-out-complex-band-lu-equals-lapack", test_written_out_complex_band_lu), &
+         new_unittest("band-pair-solve-equals-the-two-solves", test_band_pair_solve), &
          new_unittest("band-set-scaled-sets-the-band", test_band_set_scaled), &
          new_unittest("band-product-both-orders", test_band_product), &
          new_unittest("pair-solve-equals-single-solves", test_pair_solve), &
@@ -255,6 +256,73 @@ contains
          end do
       end do
    end subroutine test_written_out_complex_band_lu
+
+   !> narrow_band_lu_solve_pair (a real and a complex band system in one pass over the
+   !> rows each way, radau5's two on band problems) gives the solutions of the two
+   !> single solves with the reciprocal pivots over their upper widths bit for bit, for
+   !> bandwidths 0 to 5 with n from 1 to 40, on pseudo-random matrices that need row
+   !> interchanges (the two factorizations' pivots and upper widths differ), and when
+   !> the complex factors' bands are not the real ones' (the single solves then).
+   subroutine test_band_pair_solve(error)
+      type(error_type), allocatable, intent(out) :: error
+      integer, parameter :: orders(4) = [1, 2, 7, 40]
+      real(dp), allocatable :: a(:, :), b(:), x(:), re(:), im(:), pair_re(:), pair_im(:), y(:)
+      complex(dp), allocatable :: c(:, :)
+      integer, allocatable :: pivots(:), c_pivots(:)
+      integer :: n, i, j, k, kl, ku, c_kl, c_ku, info, c_info, width, c_width
+      integer(i8) :: state
+      character(len=:), allocatable :: label
+
+      state = 20261127_i8
+      do k = 1, size(orders)
+         n = orders(k)
+         do kl = 0, 5
+            do ku = 0, 5
+               ! the complex factors' bands: the real ones', and one case apart
+               c_kl = kl
+               c_ku = ku
+               if (kl == 2 .and. ku == 3) c_ku = 1
+               label = "band pair n = "//format_integer(n)//", kl = "//format_integer(kl)//", ku = "// &
+                  format_integer(ku)//", complex ku = "//format_integer(c_ku)
+               allocate (a(2*kl + ku + 1, n), c(2*c_kl + c_ku + 1, n), b(n), x(n), y(n), re(n), im(n), &
+                  pair_re(n), pair_im(n), pivots(n), c_pivots(n))
+               a = 0.0_dp
+               c = (0.0_dp, 0.0_dp)
+               do j = 1, n
+                  do i = max(1, j - ku), min(n, j + kl)
+                     a(kl + ku + 1 + i - j, j) = next_value(state)
+                  end do
+                  do i = max(1, j - c_ku), min(n, j + c_kl)
+                     c(c_kl + c_ku + 1 + i - j, j) = cmplx(next_value(state), next_value(state), dp)
+                  end do
+                  b(j) = next_value(state)
+                  re(j) = next_value(state)
+                  im(j) = next_value(state)
+               end do
+               call narrow_band_lu_factor(a, kl, ku, pivots, info, reciprocal_diagonal=.true., upper_width=width)
+               call narrow_band_lu_factor(c, c_kl, c_ku, c_pivots, c_info, reciprocal_diagonal=.true., &
+                  upper_width=c_width)
+               call check(error, info == 0 .and. c_info == 0, label//": a factorization failed")
+               if (allocated(error)) return
+               y = b
+               pair_re = re
+               pair_im = im
+               call narrow_band_lu_solve_pair(a, kl, ku, pivots, width, y, c, c_kl, c_ku, c_pivots, c_width, &
+                  pair_re, pair_im)
+               x = b
+               call narrow_band_lu_solve(a, kl, ku, pivots, x, reciprocal_diagonal=.true., upper_width=width)
+               call narrow_band_lu_solve(c, c_kl, c_ku, c_pivots, re, im, reciprocal_diagonal=.true., &
+                  upper_width=c_width)
+               call check(error, all(y == x), label//": the real solution differs from the single solve")
+               if (allocated(error)) return
+               call check(error, all(pair_re == re) .and. all(pair_im == im), &
+                  label//": the complex solution differs from the single solve")
+               if (allocated(error)) return
+               deallocate (a, c, b, x, y, re, im, pair_re, pair_im, pivots, c_pivots)
+            end do
+         end do
+      end do
+   end subroutine test_band_pair_solve
 
    !> A = alpha B for band matrices sets every entry of A's band in the matrix: alpha B
    !> inside B's (narrower or equal) band, zero outside it, whatever A held before (7
