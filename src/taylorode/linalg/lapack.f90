@@ -37,7 +37,7 @@ module taylorode_linalg_lapack
 
    public :: lu_factor, lu_solve, band_lu_factor, band_lu_solve, lapack_error_handler
    public :: complex_lu_factor, complex_lu_solve, complex_band_lu_factor, complex_band_lu_solve
-   public :: small_lu_factor, small_lu_solve, small_lu_solve_pair, small_lu_max_order
+   public :: small_lu_factor, small_lu_solve, small_lu_solve_reciprocal, small_lu_solve_pair, small_lu_max_order
    public :: narrow_band_lu_factor, narrow_band_lu_solve, narrow_band_lu_solve_pair, narrow_band_max_width
 
    !> Largest order for which the written-out LU is used instead of LAPACK. With
@@ -1011,7 +1011,7 @@ contains
       real(dp) :: swap, bk
 
       if (present(inverse_diagonal) .and. n <= 4) then
-         call tiny_lu_solve(n, lu, ipiv, b, inverse_diagonal)
+         call small_lu_solve_reciprocal(n, lu, ipiv, b, inverse_diagonal)
          return
       end if
       !GCC$ unroll 1
@@ -1053,6 +1053,28 @@ contains
       end if
    end subroutine small_lu_solve_real
 
+   !> Solve A x = b with the factors and the 1/U(k, k) from `small_lu_factor`: the
+   !> solvers' entry. Up to order 4 the written-out `tiny_lu_solve`, which saves none of
+   !> the registers the loops need (no optional argument to test either); beyond it
+   !> `small_lu_solve_real`'s loops.
+   pure subroutine small_lu_solve_reciprocal(n, lu, ipiv, b, inverse_diagonal)
+      !> Order
+      integer, intent(in) :: n
+      !> LU factors
+      real(dp), intent(in) :: lu(n, n)
+      !> Pivot indices
+      integer, intent(in) :: ipiv(n)
+      !> Right-hand side on entry, solution on exit
+      real(dp), intent(inout) :: b(n)
+      !> 1/U(k, k) from `small_lu_factor`
+      real(dp), intent(in) :: inverse_diagonal(n)
+      if (n <= 4) then
+         call tiny_lu_solve(n, lu, ipiv, b, inverse_diagonal)
+      else
+         call small_lu_solve_real(n, lu, ipiv, b, inverse_diagonal)
+      end if
+   end subroutine small_lu_solve_reciprocal
+
    !> Solve A x = b (real) and C (y + i z) = c + i d (complex, the right-hand side and
    !> the solution kept as real and imaginary parts) with the factors of
    !> `small_lu_factor` (and its reciprocal pivots) in one pass over the rows: the two
@@ -1083,8 +1105,8 @@ contains
       real(dp) :: swap, bk, br, bi, lr, li
 
       if (n <= 4) then
-         ! (tiny_lu_solve through small_lu_solve_real: its one caller, into which it is inlined)
-         call small_lu_solve_real(n, a, a_pivots, x, a_inverse_diagonal)
+         ! (tiny_lu_solve through small_lu_solve_reciprocal: its one caller, into which it is inlined)
+         call small_lu_solve_reciprocal(n, a, a_pivots, x, a_inverse_diagonal)
          call tiny_complex_solve(n, c, c_pivots, c_inverse_diagonal, re, im)
          return
       end if

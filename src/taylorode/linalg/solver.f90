@@ -16,7 +16,7 @@ module taylorode_linalg_solver
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, &
       matrix_structure_type, storage_dense, new_matrix
    use taylorode_linalg_lapack, only: lu_factor, lu_solve, band_lu_factor, band_lu_solve, &
-      small_lu_factor, small_lu_solve, small_lu_max_order, narrow_band_lu_factor, narrow_band_lu_solve, &
+      small_lu_factor, small_lu_solve_reciprocal, small_lu_max_order, narrow_band_lu_factor, narrow_band_lu_solve, &
       narrow_band_max_width
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
@@ -165,7 +165,7 @@ contains
          select type (a => self%matrix)
          type is (dense_matrix_type)
             if (a%n <= small_lu_max_order) then
-               call small_lu_solve(a%n, a%a, self%pivots, x, self%inverse_diagonal)
+               call small_lu_solve_reciprocal(a%n, a%a, self%pivots, x, self%inverse_diagonal)
                info = 0
             else
                call lu_solve(a%a, self%pivots, x, info)
@@ -209,7 +209,7 @@ contains
                b(2*i - 1) = x(i)
                b(2*i) = 0.0_dp
             end do
-            call small_lu_solve(2*m, a%a, self%pivots, b, self%inverse_diagonal)
+            call small_lu_solve_reciprocal(2*m, a%a, self%pivots, b, self%inverse_diagonal)
             do i = 1, m
                x(i) = b(2*i - 1)
             end do

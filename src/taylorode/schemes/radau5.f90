@@ -89,7 +89,8 @@ module taylorode_schemes_radau5
    use taylorode_linalg_matrix, only: matrix_type, dense_matrix_type, band_matrix_type, new_matrix, storage_dense
    use taylorode_linalg_solver, only: linear_solver_type, new_linear_solver, finite_diagonal
    use taylorode_linalg_complex_solver, only: complex_solver_type, new_complex_solver
-   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve, small_lu_solve_pair, small_lu_max_order
+   use taylorode_linalg_lapack, only: small_lu_factor, small_lu_solve_reciprocal, small_lu_solve_pair, &
+      small_lu_max_order
    use taylorode_problem_ode, only: ode_problem
    use taylorode_newton_solver, only: newton_settings_type
    use taylorode_schemes_scheme, only: scheme_type, stability_quotient, evaluate_jac
@@ -835,7 +836,7 @@ contains
       real(dp), contiguous, intent(inout) :: x(:)
       type(status_type), intent(inout) :: stat
       if (self%small) then
-         call small_lu_solve(self%n, self%small_matrix, self%small_pivots, x, self%small_inverse_diagonal)
+         call small_lu_solve_reciprocal(self%n, self%small_matrix, self%small_pivots, x, self%small_inverse_diagonal)
       else
          call self%real_solver%solve(x, stat)
       end if
