@@ -830,6 +830,28 @@ contains
       end do
    end subroutine newton_update
 
+   !> x**m for m >= 0 by repeated squaring: the products libgcc's __powidf2 forms for
+   !> x**m, in the same order (the same value bit for bit), without the call into the
+   !> shared library at every Newton iteration.
+   pure real(dp) function power_by_squaring(x, m) result(power)
+      !> Base
+      real(dp), intent(in) :: x
+      !> Exponent, at least 0
+      integer, intent(in) :: m
+      real(dp) :: square
+      integer :: k
+      k = m
+      square = x
+      power = 1.0_dp
+      if (iand(k, 1) == 1) power = x
+      do
+         k = ishft(k, -1)
+         if (k == 0) exit
+         square = square*square
+         if (iand(k, 1) == 1) power = power*square
+      end do
+   end function power_by_squaring
+
    !> x = ((gamma/h) I - J)^(-1) x with the kept factors.
    subroutine solve_real(self, x, stat)
       type(radau5_type), intent(inout) :: self
@@ -959,7 +981,7 @@ contains
                self%faccon_raises = 0
                if (adaptive) then
                   ! the error left after the remaining iterations at this rate
-                  dyth = self%faccon*dyno*self%theta**(limit - 1 - newt)
+                  dyth = self%faccon*dyno*power_by_squaring(self%theta, limit - 1 - newt)
                   if (dyth >= 1.0_dp) then
                      self%retry_factor = failure_safety*min(failure_high, dyth)** &
                         (-1.0_dp/(3.0_dp + real(limit - newt, dp)))
