@@ -868,25 +868,27 @@ contains
       end if
    end subroutine call_fcn
 
-   !> Call a user's JAC into jac (n x n dense, or its band storage), flag as call_fcn.
-   subroutine call_jac(self, jac_user, t, u, jac)
+   !> Call a user's JAC into jac (n x n dense, or its band storage: ldfy rows), flag as
+   !> call_fcn. Explicit-shape: a contiguous jac (the dense Jacobian) reaches JAC with no
+   !> descriptor built on the way; a band section is copied in and out at the call, as
+   !> the F77 DFY needs it.
+   subroutine call_jac(self, jac_user, n, t, u, ldfy, jac)
       type(legacy_problem_type), intent(inout) :: self
       procedure(jac_interface) :: jac_user
-      real(dp), intent(in) :: t, u(:)
-      ! not contiguous: gfortran then copies even a contiguous actual argument; passed on
-      ! to the user's explicit-shape DFY it is copied only when it is not contiguous
-      real(dp), intent(out) :: jac(:, :)
+      integer, intent(in) :: n, ldfy
+      real(dp), intent(in) :: t, u(n)
+      real(dp), intent(out) :: jac(ldfy, n)
       real(dp) :: x
-      integer :: n, ldfy, i
+      integer :: n_copy, ldfy_copy, i
       x = t
-      n = size(u)
-      ldfy = size(jac, 1)
+      n_copy = n
+      ldfy_copy = ldfy
       !GCC$ unroll 1
       do i = 1, n
          self%x_state(i) = u(i)
       end do
       if (self%flag > 0) self%ipar(self%flag) = 0
-      call jac_user(n, x, self%x_state, jac, ldfy, self%rpar, self%ipar)
+      call jac_user(n_copy, x, self%x_state, jac, ldfy_copy, self%rpar, self%ipar)
       if (self%flag > 0) then
          call read_flag(self, self%ipar(self%flag))
          if (self%ipar(self%flag) /= 0) jac = 0.0_dp
@@ -989,7 +991,7 @@ contains
       if (.not. self%has_f) then
          jac = 0.0_dp
       else if (self%has_jac_f) then
-         call call_jac(self, self%jac_f_user, t, u, jac)
+         call call_jac(self, self%jac_f_user, size(u), t, u, size(jac, 1), jac)
       else
          call dense_differences(self, difference_f, t, u, jac)
       end if
@@ -1001,7 +1003,7 @@ contains
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: jac(:, :)
       if (self%has_jac_g) then
-         call call_jac(self, self%jac_g_user, t, u, jac)
+         call call_jac(self, self%jac_g_user, size(u), t, u, size(jac, 1), jac)
       else
          call dense_differences(self, difference_g, t, u, jac)
       end if
@@ -1040,7 +1042,7 @@ contains
       if (.not. self%has_f) then
          band = 0.0_dp
       else if (self%has_jac_f) then
-         call call_jac(self, self%jac_f_user, t, u, band)
+         call call_jac(self, self%jac_f_user, size(u), t, u, size(band, 1), band)
       else
          call band_differences(self, difference_f, t, u, band)
       end if
@@ -1052,7 +1054,7 @@ contains
       real(dp), intent(in) :: t, u(:)
       real(dp), intent(out) :: band(:, :)
       if (self%has_jac_g) then
-         call call_jac(self, self%jac_g_user, t, u, band)
+         call call_jac(self, self%jac_g_user, size(u), t, u, size(band, 1), band)
       else
          call band_differences(self, difference_g, t, u, band)
       end if
@@ -1095,7 +1097,7 @@ contains
       if (differenced_part(self) /= 0) then
          call dense_differences(self, differenced_part(self), t, u, jac, value)
       else if (.not. self%has_f) then
-         call call_jac(self, self%jac_g_user, t, u, jac)
+         call call_jac(self, self%jac_g_user, size(u), t, u, size(jac, 1), jac)
       else
          call self%jac(t, u, jac)
       end if
