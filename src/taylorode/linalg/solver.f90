@@ -125,7 +125,7 @@ contains
       finite_pivots = .false.
       select type (a => self%matrix)
       type is (dense_matrix_type)
-         finite_pivots = finite_diagonal(a%a)
+         finite_pivots = finite_diagonal(a%n, a%a)
          return
       type is (band_matrix_type)
          infinite_as_zero = a%kl <= narrow_band_max_width .and. nonsingular
@@ -138,14 +138,17 @@ contains
    end function finite_pivots
 
    !> Whether the diagonal of a square matrix is finite: of LU factors, whether their
-   !> pivots are (see `factor`).
-   pure logical function finite_diagonal(a)
+   !> pivots are (see `factor`). Explicit-shape: on a few unknowns the descriptor cost
+   !> more than the loop.
+   pure logical function finite_diagonal(n, a)
+      !> Order
+      integer, intent(in) :: n
       !> The matrix
-      real(dp), intent(in) :: a(:, :)
+      real(dp), intent(in) :: a(n, n)
       integer :: k
       finite_diagonal = .false.
       !GCC$ unroll 1
-      do k = 1, size(a, 1)
+      do k = 1, n
          if (.not. ieee_is_finite(a(k, k))) return
       end do
       finite_diagonal = .true.

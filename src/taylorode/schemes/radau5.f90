@@ -654,7 +654,7 @@ contains
             self%small_complex_inverse_diagonal)
          if (info /= 0) call set_code(stat, status_singular_matrix)
          ! an overflow in the elimination (see linear_solver_type%factor)
-         if (.not. finite_diagonal(self%small_matrix)) call set_code(stat, status_nonfinite)
+         if (.not. finite_diagonal(self%n, self%small_matrix)) call set_code(stat, status_nonfinite)
       else
          if (self%with_mass) then
             call self%real_solver%matrix%set_scaled(-1.0_dp, self%jac, stat)
