@@ -808,6 +808,7 @@ contains
       integer :: p
       real(dp) :: largest
       real(dp) :: pivot, factor
+      real(dp) :: a11, a21, a12, a22
       info = 0
       select case (n)
       case (1)
@@ -823,21 +824,32 @@ contains
          p = 1
          if (abs(a(2, 1)) > largest) p = 2
          ipiv(1) = p
-         if (a(p, 1) == 0.0_dp) then
+         ! the rows interchanged as they are read (the pivot's row first): four loads the
+         ! vectorizer cannot pair, where the interchange in place loaded each column as
+         ! one vector, which waited for the caller's two stores of it to be done (no
+         ! store forwarding into a load that spans both)
+         a11 = a(p, 1)
+         a21 = a(3 - p, 1)
+         a12 = a(p, 2)
+         a22 = a(3 - p, 2)
+         if (a11 == 0.0_dp) then
             if (info == 0) info = 1
          else
-            if (p /= 1) call interchange_rows(n, a, 1, p)
-            pivot = 1.0_dp/a(1, 1)
+            pivot = 1.0_dp/a11
             if (present(inverse_diagonal)) inverse_diagonal(1) = pivot
-            a(2, 1) = a(2, 1)*pivot
-            factor = a(1, 2)
-            if (factor /= 0.0_dp) a(2, 2) = a(2, 2) - factor*a(2, 1)
+            a21 = a21*pivot
+            factor = a12
+            if (factor /= 0.0_dp) a22 = a22 - factor*a21
+            a(1, 1) = a11
+            a(2, 1) = a21
+            a(1, 2) = a12
+            a(2, 2) = a22
          end if
          ipiv(2) = 2
-         if (a(2, 2) == 0.0_dp) then
+         if (a22 == 0.0_dp) then
             if (info == 0) info = 2
          else
-            pivot = 1.0_dp/a(2, 2)
+            pivot = 1.0_dp/a22
             if (present(inverse_diagonal)) inverse_diagonal(2) = pivot
          end if
       case (3)
@@ -1308,8 +1320,6 @@ contains
       real(dp), intent(in) :: inverse_diagonal(n)
       real(dp) :: b1, b2, b3, b4
       select case (n)
-      case (2)
-         call interchange(b, 1)
       case (3)
          call interchange(b, 1)
          call interchange(b, 2)
@@ -1323,8 +1333,12 @@ contains
       case (1)
          b(1) = b(1)*inverse_diagonal(1)
       case (2)
-         b1 = b(1)
-         b2 = b(2) - b1*lu(2, 1)
+         ! the interchange of the two rows as the loads' addresses: two loads the
+         ! vectorizer cannot pair into one, which would wait for the caller's two stores
+         ! of b to be done (no store forwarding into a load that spans both)
+         b1 = b(ipiv(1))
+         b2 = b(3 - ipiv(1))
+         b2 = b2 - b1*lu(2, 1)
          b2 = b2*inverse_diagonal(2)
          b1 = b1 - b2*lu(1, 2)
          b(1) = b1*inverse_diagonal(1)
