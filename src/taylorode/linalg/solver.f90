@@ -208,11 +208,18 @@ contains
       if (2*m <= small_lu_max_order .and. self%factored .and. self%matrix%n == 2*m) then
          select type (a => self%matrix)
          type is (dense_matrix_type)
+            ! scalar loops: a vector load of x (or of b) would wait for the two stores
+            ! of it just done (by the caller, by the solve) to be complete, as no store
+            ! forwards into a load that spans two
+            !GCC$ unroll 1
+            !GCC$ novector
             do i = 1, m
                b(2*i - 1) = x(i)
                b(2*i) = 0.0_dp
             end do
             call small_lu_solve_reciprocal(2*m, a%a, self%pivots, b, self%inverse_diagonal)
+            !GCC$ unroll 1
+            !GCC$ novector
             do i = 1, m
                x(i) = b(2*i - 1)
             end do
