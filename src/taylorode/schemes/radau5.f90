@@ -101,6 +101,9 @@ module taylorode_schemes_radau5
    public :: radau5_type, new_radau5, describe_radau5
 
    real(dp), parameter :: sqrt6 = sqrt(6.0_dp)
+   ! Up to this many unknowns, the loops that read what was just stored one value at a
+   ! time are kept scalar (on 4 and 8 unknowns the vector loops measured faster)
+   integer, parameter :: scalar_loop_max_order = 2
    !> Nodes and the differences the collocation polynomial uses
    real(dp), parameter :: c1 = (4.0_dp - sqrt6)/10.0_dp, c2 = (4.0_dp + sqrt6)/10.0_dp
    real(dp), parameter :: c1m1 = c1 - 1.0_dp, c2m1 = c2 - 1.0_dp, c1mc2 = c1 - c2
@@ -566,21 +569,39 @@ contains
          u1 = u0
          return
       end if
-      !GCC$ unroll 1
-      do i = 1, n
-         u1(i) = u0(i) + self%z(i, 3)
-      end do
+      if (n <= scalar_loop_max_order) then
+         ! (a scalar loop, as add_vectors')
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = 1, n
+            u1(i) = u0(i) + self%z(i, 3)
+         end do
+      else
+         !GCC$ unroll 1
+         do i = 1, n
+            u1(i) = u0(i) + self%z(i, 3)
+         end do
+      end if
       ! the stages in z give the collocation polynomial (dense output, and the next
       ! step's starting values once this one is accepted)
       self%h_stages = h
       self%have_stages = .true.
       if (present(delta)) then
          call estimate_error(self, problem, t, h, stat)
-         ! (a loop: the assignment's copy is unrolled, which costs more on a few unknowns)
-         !GCC$ unroll 1
-         do i = 1, n
-            delta(i) = self%w(i, 1)
-         end do
+         ! (a loop: the assignment's copy is unrolled, which costs more on a few unknowns;
+         ! on a few, a scalar one, as add_vectors': the solve has just stored the estimate)
+         if (n <= scalar_loop_max_order) then
+            !GCC$ unroll 1
+            !GCC$ novector
+            do i = 1, n
+               delta(i) = self%w(i, 1)
+            end do
+         else
+            !GCC$ unroll 1
+            do i = 1, n
+               delta(i) = self%w(i, 1)
+            end do
+         end if
       end if
 
    contains
@@ -722,10 +743,21 @@ contains
       !> The sum
       real(dp), intent(out) :: c(n)
       integer :: i
-      !GCC$ unroll 1
-      do i = 1, n
-         c(i) = a(i) + b(i)
-      end do
+      if (n <= scalar_loop_max_order) then
+         ! a scalar loop on one or two unknowns: a vector load of b (the stage increments
+         ! Newton has just stored one by one) would wait for those stores to be
+         ! complete, as no store forwards into a load that spans two
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = 1, n
+            c(i) = a(i) + b(i)
+         end do
+      else
+         !GCC$ unroll 1
+         do i = 1, n
+            c(i) = a(i) + b(i)
+         end do
+      end if
    end subroutine add_vectors
 
    !> Newton's start: Z at the new stages from the last step's collocation polynomial
@@ -1105,12 +1137,23 @@ contains
       real(dp), intent(out) :: stage_part(n), estimate(n)
       real(dp) :: part
       integer :: i
-      !GCC$ unroll 1
-      do i = 1, n
-         part = hee1*z(i, 1) + hee2*z(i, 2) + hee3*z(i, 3)
-         stage_part(i) = part
-         estimate(i) = part + rhs0(i)
-      end do
+      if (n <= scalar_loop_max_order) then
+         ! a scalar loop on one or two unknowns, as add_vectors': Newton has just stored z
+         !GCC$ unroll 1
+         !GCC$ novector
+         do i = 1, n
+            part = hee1*z(i, 1) + hee2*z(i, 2) + hee3*z(i, 3)
+            stage_part(i) = part
+            estimate(i) = part + rhs0(i)
+         end do
+      else
+         !GCC$ unroll 1
+         do i = 1, n
+            part = hee1*z(i, 1) + hee2*z(i, 2) + hee3*z(i, 3)
+            stage_part(i) = part
+            estimate(i) = part + rhs0(i)
+         end do
+      end if
    end subroutine estimate_right_side
 
    !> F(t, U0) at the start of the step into rhs0, unless it is there already (kept
