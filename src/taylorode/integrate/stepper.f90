@@ -33,12 +33,13 @@ module taylorode_integrate_stepper
    use taylorode_integrate_reduction, only: reduced_max, reduced_root_mean_square, agree_on_outcome
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    implicit none
-   ! Up to this many components, the weighted norm's loop is kept scalar (on 4 and 8
-   ! the vector loop measured faster)
-   integer, parameter :: scalar_norm_max_length = 2
    private
 
    public :: stepper_type, roundoff_weight, failure_shrink
+
+   !> Up to this many components, the weighted norm's loop is kept scalar (on 4 and 8
+   !> the vector loop measured faster)
+   integer, parameter :: scalar_norm_max_length = 2
 
    !> With g linear, an accepted step keeps h unless the controller lets it grow by more
    !> than this factor (RADAU5's QUOT2 = 1.2)

@@ -101,8 +101,8 @@ module taylorode_schemes_radau5
    public :: radau5_type, new_radau5, describe_radau5
 
    real(dp), parameter :: sqrt6 = sqrt(6.0_dp)
-   ! Up to this many unknowns, the loops that read what was just stored one value at a
-   ! time are kept scalar (on 4 and 8 unknowns the vector loops measured faster)
+   !> Up to this many unknowns, the loops that read what was just stored one value at a
+   !> time are kept scalar (on 4 and 8 unknowns the vector loops measured faster)
    integer, parameter :: scalar_loop_max_order = 2
    !> Nodes and the differences the collocation polynomial uses
    real(dp), parameter :: c1 = (4.0_dp - sqrt6)/10.0_dp, c2 = (4.0_dp + sqrt6)/10.0_dp
